@@ -1,0 +1,40 @@
+// Helpers shared by the tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace arcs::testing {
+
+// The workplace's shared directory (../shared beside the checkout), or an
+// override from the ARCS_SHARED_DIR environment variable. Empty if absent.
+inline std::string SharedDir() {
+  if (const char* env = std::getenv("ARCS_SHARED_DIR")) {
+    if (std::filesystem::is_directory(env)) return env;
+  }
+  if (std::filesystem::is_directory(ARCS_SHARED_DIR "/data")) return ARCS_SHARED_DIR;
+  return "";
+}
+
+inline std::string SharedData(const std::string& rel) { return SharedDir() + "/data/" + rel; }
+
+// A fresh, empty temporary directory for one test.
+inline std::filesystem::path TempDir(const std::string& name) {
+  auto dir = std::filesystem::temp_directory_path() / ("arcs_test_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace arcs::testing
+
+// Skips the current test with a clear message when ../shared is not present.
+#define ARCS_REQUIRE_SHARED_DATA()                                                   \
+  do {                                                                               \
+    if (::arcs::testing::SharedDir().empty())                                        \
+      GTEST_SKIP() << "shared data not found (../shared/data or $ARCS_SHARED_DIR); " \
+                      "this test needs the workplace's meshes";                      \
+  } while (0)
