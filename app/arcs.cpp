@@ -1,0 +1,293 @@
+// arcs: one binary with subcommands (run | list | describe | table | sdf | eval | version).
+#include "framework/eval/metrics.h"
+#include "framework/experiment/csv.h"
+#include "framework/experiment/experiment.h"
+#include "framework/experiment/runner.h"
+#include "framework/experiment/tables.h"
+#include "framework/experiment/version.h"
+#include "framework/geometry/builtin_shapes.h"
+#include "framework/geometry/normalize.h"
+#include "framework/io/mesh_io.h"
+#include "framework/io/sdf_io.h"
+#include "framework/sdf/sdf_sampling.h"
+#include "framework/spatial/topology.h"
+#include "framework/util/parallel.h"
+#include "registry/plugin.h"
+#include "registry/plugin_api.h"
+#include "stages/builtin.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+using namespace arcs;
+
+namespace {
+
+const char* kUsage = R"(arcs — surfaces from signed distances and point clouds, and how well it went
+
+usage: arcs <command> [options]
+
+commands:
+  run EXP.yaml [--set path.to.param=value]... [--jobs N] [--threads T] [--out DIR]
+               [--retry-failed] [--no-isolate] [--quiet]
+                             expand the experiment into cases and run them; resumes
+  table RESULTS_DIR [--tables EXP.yaml]
+                             rebuild the tables from RESULTS_DIR/results.csv
+  list                       every registered stage, by role
+  describe STAGE             a stage's parameters with defaults, ranges and docs
+  sdf MESH OUT [--n N] [--random COUNT] [--no-normalize] [--rotate SEED]
+                             sample a mesh's SDF (paper protocol) to OUT (.npy grid or .txt)
+  eval MESH REFERENCE [--samples N] [--sdf FILE] [--no-normalize]
+                             the paper's metrics of MESH against REFERENCE
+  shape NAME OUT             write a built-in shape (sphere, torus, knot, two_tori)
+  version                    version, build and plugin API
+
+global options:
+  --plugin FILE              load a plugin (also: $ARCS_PLUGIN_PATH, or `plugins:` in YAML)
+)";
+
+[[noreturn]] void Usage(const std::string& msg) {
+  std::fprintf(stderr, "arcs: %s\n(run `arcs --help` for usage)\n", msg.c_str());
+  std::exit(2);
+}
+
+struct Args {
+  std::vector<std::string> positional;
+  std::vector<std::pair<std::string, std::string>> options;  // --key value (value "" for flags)
+  bool Has(const std::string& k) const {
+    for (const auto& [a, b] : options)
+      if (a == k) return true;
+    return false;
+  }
+  std::string Get(const std::string& k, const std::string& def = "") const {
+    for (const auto& [a, b] : options)
+      if (a == k) return b;
+    return def;
+  }
+  std::vector<std::string> All(const std::string& k) const {
+    std::vector<std::string> out;
+    for (const auto& [a, b] : options)
+      if (a == k) out.push_back(b);
+    return out;
+  }
+};
+
+Args Parse(int argc, char** argv, int start, const std::vector<std::string>& with_value,
+           const std::vector<std::string>& flags) {
+  Args a;
+  for (int i = start; i < argc; ++i) {
+    std::string s = argv[i];
+    if (s.rfind("--", 0) == 0) {
+      std::string key = s, val;
+      const size_t eq = s.find('=');
+      if (eq != std::string::npos && std::find(with_value.begin(), with_value.end(), s.substr(0, eq)) != with_value.end()) {
+        key = s.substr(0, eq);
+        val = s.substr(eq + 1);
+      } else if (std::find(with_value.begin(), with_value.end(), key) != with_value.end()) {
+        if (i + 1 >= argc) Usage("option " + key + " needs a value");
+        val = argv[++i];
+      } else if (std::find(flags.begin(), flags.end(), key) == flags.end()) {
+        Usage("unknown option " + key);
+      }
+      a.options.emplace_back(key, val);
+    } else {
+      a.positional.push_back(s);
+    }
+  }
+  return a;
+}
+
+int ParseInt(const std::string& s, const std::string& what) {
+  char* end = nullptr;
+  const long v = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || *end) Usage(what + " must be an integer, got '" + s + "'");
+  return static_cast<int>(v);
+}
+
+void LoadPlugins(Registry& registry, const Args& args) {
+  if (const char* path = std::getenv("ARCS_PLUGIN_PATH"))
+    for (const auto& p : FindPlugins(path)) LoadPlugin(registry, p);
+  for (const auto& p : args.All("--plugin")) LoadPlugin(registry, p);
+}
+
+int CmdList(const Registry& registry) {
+  Role last = Role::kOther;
+  bool first = true;
+  for (const StageInfo* s : registry.List()) {
+    if (first || s->role != last) {
+      std::printf("%s%s:\n", first ? "" : "\n", RoleName(s->role));
+      last = s->role;
+      first = false;
+    }
+    std::printf("  %-22s %s%s\n", s->name.c_str(), s->doc.c_str(),
+                s->origin == "builtin" ? "" : ("  [" + s->origin + "]").c_str());
+  }
+  return 0;
+}
+
+int CmdDescribe(const Registry& registry, const std::string& name) {
+  const StageInfo& s = registry.Get(name);
+  std::printf("%s  (role: %s, from: %s)\n  %s\n", s.name.c_str(), RoleName(s.role), s.origin.c_str(), s.doc.c_str());
+  if (s.params.specs().empty()) {
+    std::printf("\n  no parameters\n");
+  } else {
+    std::printf("\n  %-20s %-7s %-22s %-28s %s\n", "parameter", "type", "default", "allowed", "description");
+    for (const auto& p : s.params.specs())
+      std::printf("  %-20s %-7s %-22s %-28s %s\n", p.name.c_str(), ParamTypeName(p.type),
+                  FormatParamValue(p.default_value).c_str(), p.RangeText().c_str(), p.doc.c_str());
+  }
+  if (!s.outputs.empty()) {
+    std::string o;
+    for (const auto& x : s.outputs) o += (o.empty() ? "" : ", ") + x;
+    std::printf("\n  writes columns: %s\n", o.c_str());
+  }
+  return 0;
+}
+
+int WriteTablesFor(const std::vector<TableSpec>& specs, const std::string& dir, bool print) {
+  const std::string results = (fs::path(dir) / "results.csv").string();
+  if (!fs::exists(results)) throw Error(results + ": no results file (run the experiment first)");
+  const CsvTable t = ReadCsv(results);
+  std::vector<std::string> warnings;
+  const auto tables = BuildTables(specs, t, &warnings);
+  for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  const std::string md = WriteTables(tables, (fs::path(dir) / "tables").string());
+  if (print) std::printf("%s", md.c_str());
+  if (!tables.empty())
+    std::fprintf(stderr, "tables written to %s/ (.md, .csv, .tex)\n", (fs::path(dir) / "tables").c_str());
+  return 0;
+}
+
+int CmdRun(Registry& registry, const Args& args, int argc, char** argv) {
+  if (args.positional.size() != 1) Usage("run needs exactly one experiment file");
+  const Experiment exp = LoadExperiment(args.positional[0], args.All("--set"), registry);
+  RunOptions o;
+  o.out_dir = args.Get("--out", DefaultOutDir(exp));
+  o.jobs = args.Has("--jobs") ? ParseInt(args.Get("--jobs"), "--jobs") : 1;
+  o.threads = args.Has("--threads") ? ParseInt(args.Get("--threads"), "--threads") : 0;
+  if (o.jobs < 1) Usage("--jobs must be >= 1");
+  if (o.threads < 0) Usage("--threads must be >= 0");
+  o.isolate = !args.Has("--no-isolate");
+  o.retry_failed = args.Has("--retry-failed");
+  o.progress = !args.Has("--quiet");
+  for (int i = 0; i < argc; ++i) o.command_line.push_back(argv[i]);
+  const RunSummary s = RunExperiment(exp, registry, o);
+  if (!exp.tables.empty()) WriteTablesFor(exp.tables, o.out_dir, !args.Has("--quiet"));
+  std::fprintf(stderr, "results: %s/results.csv\n", o.out_dir.c_str());
+  return s.interrupted ? 130 : 0;
+}
+
+int CmdTable(const Args& args) {
+  if (args.positional.size() != 1) Usage("table needs a results directory");
+  const std::string dir = args.positional[0];
+  const std::string spec_file = args.Get("--tables", (fs::path(dir) / "config.resolved.yaml").string());
+  if (!fs::exists(spec_file)) throw Error(spec_file + ": not found (is " + dir + " a results directory?)");
+  const auto specs = LoadTableSpecs(spec_file);
+  if (specs.empty()) throw Error(spec_file + ": defines no tables");
+  return WriteTablesFor(specs, dir, true);
+}
+
+Mesh LoadMeshNormalized(const std::string& path, bool normalize, int rotate_seed) {
+  Mesh m = path.rfind("shape:", 0) == 0 ? MakeBuiltinShape(path.substr(6)) : ReadMesh(path);
+  if (normalize) {
+    NormalizeOptions no;
+    if (rotate_seed >= 0) {
+      no.random_rotation = true;
+      no.rotation_seed = static_cast<std::uint64_t>(rotate_seed);
+    }
+    Normalize(&m, no);
+  }
+  return m;
+}
+
+int CmdSdf(const Args& args) {
+  if (args.positional.size() != 2) Usage("sdf needs MESH and OUT");
+  const Mesh m = LoadMeshNormalized(args.positional[0], !args.Has("--no-normalize"),
+                                    args.Has("--rotate") ? ParseInt(args.Get("--rotate"), "--rotate") : -1);
+  Context ctx(1);
+  SdfSamples s;
+  if (args.Has("--random")) {
+    s = SampleSdfRandom(m, ParseInt(args.Get("--random"), "--random"), -1.0, 1.0, ctx);
+  } else {
+    SdfGridOptions o;
+    o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n") : 20;
+    s = SampleSdfGrid(m, o, ctx);
+  }
+  const std::string out = args.positional[1];
+  if (fs::path(out).extension() == ".npy") {
+    if (!s.grid) throw Error("a .npy output holds a grid; use a .txt output for --random samples");
+    WriteSdfGrid(out, s);
+  } else {
+    WriteSdfText(out, s);
+  }
+  std::fprintf(stderr, "wrote %lld SDF samples to %s\n", static_cast<long long>(s.Size()), out.c_str());
+  return 0;
+}
+
+int CmdEval(const Args& args) {
+  if (args.positional.size() != 2) Usage("eval needs MESH and REFERENCE");
+  const bool norm = !args.Has("--no-normalize");
+  const Mesh ref = LoadMeshNormalized(args.positional[1], norm, -1);
+  const Mesh m = ReadMesh(args.positional[0]);
+  const std::int64_t n = args.Has("--samples") ? ParseInt(args.Get("--samples"), "--samples") : 1000000;
+  std::printf("chamfer            %.6g\n", ChamferPaper(m, ref, n, 1));
+  std::printf("hausdorff          %.6g\n", HausdorffPaper(m, ref));
+  std::printf("chamfer_p2s        %.6g\n", ChamferPointToSurface(m, ref, n, 1));
+  std::printf("hausdorff_sampled  %.6g\n", HausdorffSampled(m, ref, n, 1));
+  if (args.Has("--sdf")) std::printf("e_sdf              %.6g\n", EnergySdf(ReadSdf(args.Get("--sdf")), m));
+  const Topology t = ComputeTopology(m);
+  std::printf("closed %d  manifold %d  genus %d  components %d  vertices %d  faces %d\n", t.closed, t.manifold,
+              t.genus, t.components, t.vertices, t.faces);
+  return 0;
+}
+
+int CmdShape(const Args& args) {
+  if (args.positional.size() != 2) Usage("shape needs NAME and OUT");
+  WriteMesh(args.positional[1], MakeBuiltinShape(args.positional[0]));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+    std::printf("%s", kUsage);
+    return argc < 2 ? 2 : 0;
+  }
+  const std::string cmd = argv[1];
+  try {
+    Registry registry;
+    RegisterBuiltinStages(registry);
+    if (cmd == "list" || cmd == "describe") {
+      const Args a = Parse(argc, argv, 2, {"--plugin"}, {});
+      LoadPlugins(registry, a);
+      if (cmd == "list") return CmdList(registry);
+      if (a.positional.size() != 1) Usage("describe needs one stage name");
+      return CmdDescribe(registry, a.positional[0]);
+    }
+    if (cmd == "run") {
+      const Args a = Parse(argc, argv, 2, {"--plugin", "--set", "--jobs", "--threads", "--out"},
+                           {"--retry-failed", "--no-isolate", "--quiet"});
+      LoadPlugins(registry, a);
+      return CmdRun(registry, a, argc, argv);
+    }
+    if (cmd == "table") return CmdTable(Parse(argc, argv, 2, {"--tables"}, {}));
+    if (cmd == "sdf") return CmdSdf(Parse(argc, argv, 2, {"--n", "--random", "--rotate"}, {"--no-normalize"}));
+    if (cmd == "eval") return CmdEval(Parse(argc, argv, 2, {"--samples", "--sdf"}, {"--no-normalize"}));
+    if (cmd == "shape") return CmdShape(Parse(argc, argv, 2, {}, {}));
+    if (cmd == "version") {
+      std::printf("arcs 0.1.0 (git %s, %s build, plugin API %d)\n", GitRevision(), BuildType(), ARCS_PLUGIN_API_VERSION);
+      return 0;
+    }
+    Usage("unknown command '" + cmd + "'");
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "arcs: error: %s\n", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,138 @@
+// YAML experiment files: parsing, strict validation and expansion into cases.
+//
+// The schema is documented in README.md ("Experiment files"). Every error
+// names the file, line and field ("exp.yaml:12: methods[0].pipeline[1].params.n: ...").
+#pragma once
+
+#include "registry/registry.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace arcs {
+
+// Validation error located in an experiment file.
+class ExperimentError : public Error {
+ public:
+  using Error::Error;
+};
+
+struct NormalizeSpec {
+  bool enabled = true;          // scale + centre as the paper's protocol
+  double longest_side = 1.0;    // longest bounding-box side after scaling
+  bool center = true;           // bounding-box centre moved to the origin
+  bool random_rotation = false; // the paper's random rotation (seeded)
+  std::int64_t rotation_seed = 1;
+};
+
+struct DatasetSpec {
+  std::string name;
+  std::vector<std::string> files;    // resolved, sorted; or "shape:<name>" for built-in shapes
+  NormalizeSpec normalize;
+};
+
+// One stage of a pipeline with, for each parameter, the list of values to
+// sweep (a single value when not swept).
+struct StageEntry {
+  std::string stage;
+  std::vector<std::pair<std::string, std::vector<ParamValue>>> values;
+  std::string where;  // "file:line" for messages
+};
+
+struct PipelineSpec {
+  std::string name;
+  std::vector<StageEntry> stages;
+};
+
+struct GroupSpec {
+  std::string name;
+  std::vector<std::string> where;  // conditions "column op value", all must hold
+};
+
+struct ReferenceColumn {
+  std::string metric;  // our metric this column sits beside
+  std::string column;  // column in the reference CSV
+  std::string label;   // header shown in the table
+};
+
+struct ReferenceSpec {
+  std::string file;                                 // resolved path ("" = none)
+  std::vector<std::pair<std::string, std::string>> match;  // ref column -> "group" | "rows" | our column
+  std::vector<std::string> where;                   // filters on reference rows
+  std::vector<ReferenceColumn> columns;
+};
+
+struct TableSpec {
+  std::string name;
+  std::vector<std::string> metrics;
+  std::string rows;                 // a results column (suffix match allowed)
+  std::string columns = "method";   // a results column
+  std::string aggregate = "mean";   // mean | median | min | max | std | count
+  std::vector<GroupSpec> groups;    // default: one group "all"
+  std::vector<ReferenceSpec> references;
+  std::string format = "%.4g";      // printf format of cells
+};
+
+struct Experiment {
+  std::string file;       // path of the YAML file
+  std::string name;
+  std::string description;
+  std::uint64_t seed = 1;
+  double case_timeout_s = 0;  // 0 = no limit
+  std::vector<std::string> plugins;
+  std::vector<DatasetSpec> datasets;
+  std::vector<PipelineSpec> inputs;
+  std::vector<PipelineSpec> methods;
+  std::vector<StageEntry> metrics;
+  std::vector<TableSpec> tables;
+  YAML::Node resolved;  // the document after overrides, with defaults filled in
+};
+
+// A fully resolved unit of work.
+struct Case {
+  std::string id;        // 16 hex digits, hash of the resolved configuration
+  std::string dataset;
+  std::string item;      // file stem or shape name
+  std::string item_path; // file, or "shape:<name>"
+  NormalizeSpec normalize;
+  std::string input;     // input pipeline name
+  std::vector<StageSpec> input_stages;
+  std::string method;
+  std::vector<StageSpec> method_stages;
+  std::vector<StageSpec> metric_stages;
+  std::uint64_t seed = 1;  // the experiment's seed
+  // Resolved parameters as results columns ("stage.param" -> text), in order.
+  std::vector<std::pair<std::string, std::string>> params;
+  // Short human label: "bunny | sdf_grid.n=20 | MC".
+  std::string Label() const;
+};
+
+// Applies one "--set path.to.key=value" override to a YAML document. Path
+// elements index mappings by key and sequences by an element's `name` or
+// `stage` (or a number); inside a stage entry, an unknown key is looked up in
+// its `params`. The value is parsed as YAML ("[10, 20]" is a list).
+void ApplyOverride(YAML::Node& doc, const std::string& assignment);
+
+// Loads, overrides, validates. Plugins named in the file are loaded into
+// `registry` before stage names are checked. Throws ExperimentError.
+Experiment LoadExperiment(const std::string& path, const std::vector<std::string>& overrides,
+                          Registry& registry);
+
+// Parses a `tables:` list (paths relative to base_dir).
+std::vector<TableSpec> ParseTables(const std::string& file, const YAML::Node& node, const std::string& base_dir);
+// The tables of an experiment (or resolved config) file; other keys ignored.
+std::vector<TableSpec> LoadTableSpecs(const std::string& path);
+
+// Expands datasets x inputs x methods x the cartesian product of every
+// swept parameter. Deterministic order.
+std::vector<Case> ExpandCases(const Experiment& exp, const Registry& registry);
+
+// "${VAR}" expansion from the environment (ARCS_SHARED_DIR defaults to the
+// source tree's ../shared) and resolution relative to `base_dir`.
+std::string ResolvePath(const std::string& path, const std::string& base_dir);
+
+}  // namespace arcs

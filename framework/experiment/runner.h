@@ -1,0 +1,42 @@
+// Running an experiment: cases in isolated worker processes, results rows
+// appended as each case ends, resume, provenance, progress.
+#pragma once
+
+#include "framework/context.h"
+#include "framework/experiment/experiment.h"
+
+#include <string>
+#include <vector>
+
+namespace arcs {
+
+using Row = std::vector<std::pair<std::string, std::string>>;
+
+// Runs one case in this process and returns its results row (status "ok" or
+// "failed" with the error message; never throws for a case's own failure).
+// `threads` limits the case's parallelism (0 = all cores).
+Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Context::LogFn& log);
+
+struct RunOptions {
+  std::string out_dir;          // results directory (created)
+  int jobs = 1;                 // cases run at once
+  int threads = 0;              // threads per case (0 = cores / jobs, at least 1)
+  bool isolate = true;          // each case in a forked worker process
+  bool retry_failed = false;    // re-run cases recorded as failed
+  bool progress = true;         // progress line on stderr
+  std::vector<std::string> command_line;  // for provenance
+};
+
+struct RunSummary {
+  int total = 0, skipped = 0, ok = 0, failed = 0;
+  bool interrupted = false;
+};
+
+// Expands and runs the experiment; writes results.csv, config.resolved.yaml,
+// provenance.yaml, logs/ and the tables into out_dir.
+RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const RunOptions& options);
+
+// Default results directory for an experiment: results/<name>.
+std::string DefaultOutDir(const Experiment& exp);
+
+}  // namespace arcs

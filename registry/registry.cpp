@@ -1,0 +1,108 @@
+#include "registry/registry.h"
+
+#include <algorithm>
+
+namespace arcs {
+
+void Registry::Register(StageInfo info) {
+  if (info.name.empty()) throw Error("a stage from " + info.origin + " has an empty name");
+  if (!info.factory) throw Error("stage '" + info.name + "' from " + info.origin + " has no factory");
+  if (const StageInfo* old = Find(info.name)) {
+    throw Error("stage '" + info.name + "' registered twice: by " + old->origin + " and by " +
+                info.origin);
+  }
+  stages_.push_back(std::move(info));
+}
+
+const StageInfo* Registry::Find(const std::string& name) const {
+  for (const auto& s : stages_)
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+const StageInfo& Registry::Get(const std::string& name) const {
+  if (const StageInfo* s = Find(name)) return *s;
+  std::string msg = "unknown stage '" + name + "'";
+  const std::string near = Suggest(name);
+  if (!near.empty()) msg += " (did you mean '" + near + "'?)";
+  msg += "; `arcs list` shows all stages";
+  throw Error(msg);
+}
+
+std::vector<const StageInfo*> Registry::List() const {
+  std::vector<const StageInfo*> out;
+  for (const auto& s : stages_) out.push_back(&s);
+  std::sort(out.begin(), out.end(), [](const StageInfo* a, const StageInfo* b) {
+    if (a->role != b->role) return a->role < b->role;
+    return a->name < b->name;
+  });
+  return out;
+}
+
+int EditDistance(const std::string& a, const std::string& b) {
+  std::vector<int> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = static_cast<int>(j);
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = static_cast<int>(i);
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const int sub = prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
+    }
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string Registry::Suggest(const std::string& name) const {
+  std::string best;
+  int best_d = 1 << 30;
+  for (const auto& s : stages_) {
+    int d = EditDistance(name, s.name);
+    // A prefix/substring match is a strong hint too.
+    if (s.name.find(name) != std::string::npos || name.find(s.name) != std::string::npos)
+      d = std::min(d, 2);
+    if (d < best_d) best_d = d, best = s.name;
+  }
+  const int limit = std::max<int>(2, static_cast<int>(name.size()) / 3);
+  return best_d <= limit ? best : "";
+}
+
+ParamMap Registry::Resolve(const std::string& stage, const ParamMap& given) const {
+  const StageInfo& info = Get(stage);
+  for (const auto& [k, v] : given.items()) {
+    if (!info.params.Find(k)) {
+      std::string msg = "stage '" + stage + "' has no parameter '" + k + "'";
+      std::string valid;
+      for (const auto& s : info.params.specs()) valid += (valid.empty() ? "" : ", ") + s.name;
+      msg += valid.empty() ? " (it takes none)" : " (valid: " + valid + ")";
+      throw OptionError(msg);
+    }
+  }
+  ParamMap out;
+  for (const auto& spec : info.params.specs()) {
+    ParamValue v = given.Has(spec.name) ? given.Get(spec.name) : spec.default_value;
+    // Integers are accepted where floats are expected.
+    if (spec.type == ParamType::kDouble)
+      if (auto* i = std::get_if<std::int64_t>(&v)) v = static_cast<double>(*i);
+    try {
+      spec.CheckValue(v);
+    } catch (const OptionError& e) {
+      throw OptionError(stage + "." + e.what());
+    }
+    if (spec.type == ParamType::kStage) {
+      const auto& nested = *std::get<std::shared_ptr<StageSpec>>(v);
+      const StageInfo& ninfo = Get(nested.stage);
+      if (RoleName(ninfo.role) != spec.stage_role)
+        throw OptionError(stage + "." + spec.name + " = " + nested.stage + ": must be a stage of role " +
+                          spec.stage_role + ", but '" + nested.stage + "' is a " + RoleName(ninfo.role));
+      auto resolved = std::make_shared<StageSpec>();
+      resolved->stage = nested.stage;
+      resolved->params = Resolve(nested.stage, nested.params);
+      v = resolved;
+    }
+    out.Set(spec.name, std::move(v));
+  }
+  return out;
+}
+
+}  // namespace arcs
