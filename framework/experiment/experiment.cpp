@@ -341,7 +341,8 @@ std::string ResolvePath(const std::string& path, const std::string& base_dir) {
 std::string Case::Label() const {
   std::string s = item;
   for (const auto& [k, v] : params) {
-    if (k.find('.') != std::string::npos) s += " " + k.substr(k.rfind('.') + 1) + "=" + v;
+    if (std::find(varying.begin(), varying.end(), k) != varying.end())
+      s += " " + k.substr(k.rfind('.') + 1) + "=" + v;
   }
   return s + " | " + input + " | " + method;
 }
@@ -767,6 +768,14 @@ std::vector<Case> ExpandCases(const Experiment& exp, const Registry& registry) {
       }
     }
   }
+  // Which parameter columns vary (shown in progress labels).
+  std::map<std::string, std::set<std::string>> values;
+  for (const auto& c : cases)
+    for (const auto& [k, v] : c.params) values[k].insert(v);
+  std::vector<std::string> varying;
+  for (const auto& [k, vs] : values)
+    if (vs.size() > 1) varying.push_back(k);
+  for (auto& c : cases) c.varying = varying;
   return cases;
 }
 

@@ -107,7 +107,9 @@ struct Case {
   std::uint64_t seed = 1;  // the experiment's seed
   // Resolved parameters as results columns ("stage.param" -> text), in order.
   std::vector<std::pair<std::string, std::string>> params;
-  // Short human label: "bunny | sdf_grid.n=20 | MC".
+  // Parameter columns that vary across the experiment's cases (for labels).
+  std::vector<std::string> varying;
+  // Short human label: "bunny n=20 | grid | MC".
   std::string Label() const;
 };
 

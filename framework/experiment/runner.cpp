@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <signal.h>
+#include <csignal>
 #include <unistd.h>
 
 #include <algorithm>

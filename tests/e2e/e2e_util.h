@@ -1,0 +1,41 @@
+// Running the arcs binary from tests.
+#pragma once
+
+#include "framework/experiment/csv.h"
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace arcs::testing {
+
+struct CmdResult {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+inline CmdResult RunCmd(const std::string& cmd) {
+  CmdResult r;
+  FILE* p = popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
+  const int st = pclose(p);
+  r.code = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+  return r;
+}
+
+inline std::string Arcs() { return std::string("'") + ARCS_EXE + "'"; }
+
+inline void WriteFile(const std::filesystem::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+inline std::string ReadFile(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+}  // namespace arcs::testing

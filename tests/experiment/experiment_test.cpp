@@ -1,0 +1,128 @@
+#include "framework/experiment/experiment.h"
+#include "stages/builtin.h"
+#include "tests/test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+
+namespace arcs {
+namespace {
+
+class ExperimentTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    RegisterBuiltinStages(registry_);
+    dir_ = testing::TempDir(::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
+  std::string Write(const std::string& text) {
+    const std::string path = (dir_ / "exp.yaml").string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  // Expects LoadExperiment to fail with a message containing every piece.
+  void ExpectError(const std::string& yaml, const std::vector<std::string>& pieces,
+                   const std::vector<std::string>& overrides = {}) {
+    const std::string path = Write(yaml);
+    try {
+      LoadExperiment(path, overrides, registry_);
+      FAIL() << "expected an error for:\n" << yaml;
+    } catch (const ExperimentError& e) {
+      const std::string msg = e.what();
+      for (const auto& p : pieces) EXPECT_NE(msg.find(p), std::string::npos) << "missing '" << p << "' in: " << msg;
+    }
+  }
+  Registry registry_;
+  std::filesystem::path dir_;
+};
+
+const char* kGood = R"(name: t
+seed: 3
+datasets:
+  - name: shapes
+    shapes: [sphere, torus]
+inputs:
+  - name: grid
+    pipeline:
+      - stage: sdf_grid
+        params: {n: [6, 10, 20]}
+methods:
+  - name: MC
+    pipeline: [marching_cubes]
+  - name: MC_shifted
+    pipeline:
+      - stage: marching_cubes
+        params: {level: [0.0, 0.01]}
+metrics: [chamfer, hausdorff]
+tables:
+  - name: t2
+    metrics: [chamfer]
+    rows: n
+)";
+
+TEST_F(ExperimentTest, SweepsExpandToTheCartesianProduct) {
+  const Experiment exp = LoadExperiment(Write(kGood), {}, registry_);
+  const auto cases = ExpandCases(exp, registry_);
+  // 2 shapes x 3 resolutions x (1 + 2) method variants.
+  EXPECT_EQ(cases.size(), 2u * 3u * 3u);
+  std::set<std::string> ids;
+  for (const auto& c : cases) ids.insert(c.id);
+  EXPECT_EQ(ids.size(), cases.size()) << "case ids must be distinct";
+  // Stable: the same file expands to the same ids.
+  const auto again = ExpandCases(LoadExperiment(Write(kGood), {}, registry_), registry_);
+  for (size_t i = 0; i < cases.size(); ++i) EXPECT_EQ(cases[i].id, again[i].id);
+  // Resolved parameters are columns.
+  bool found = false;
+  for (const auto& [k, v] : cases[0].params) found |= k == "sdf_grid.n" && v == "6";
+  EXPECT_TRUE(found);
+}
+
+TEST_F(ExperimentTest, OverridesChangeParametersAndCases) {
+  const Experiment exp = LoadExperiment(Write(kGood), {"inputs.grid.sdf_grid.n=[8]", "seed=9"}, registry_);
+  const auto cases = ExpandCases(exp, registry_);
+  EXPECT_EQ(cases.size(), 2u * 1u * 3u);
+  EXPECT_EQ(exp.seed, 9u);
+  for (const auto& c : cases) EXPECT_EQ(c.input_stages[0].params.GetInt("n"), 8);
+  // A method's stage parameter through the pipeline.
+  const Experiment e2 = LoadExperiment(Write(kGood), {"methods.MC.marching_cubes.level=0.05"}, registry_);
+  EXPECT_DOUBLE_EQ(ExpandCases(e2, registry_)[0].method_stages[0].params.GetDouble("level"), 0.05);
+}
+
+TEST_F(ExperimentTest, ErrorsNameFileLineAndField) {
+  // Unknown top-level key, with suggestion.
+  ExpectError("name: t\ndatasetz: []\n", {"exp.yaml:2", "unknown key 'datasetz'", "did you mean 'datasets'"});
+  // Unknown stage with suggestion.
+  ExpectError(
+      "datasets: [{shapes: [sphere]}]\nmethods:\n  - name: m\n    pipeline: [marching_cube]\n",
+      {"exp.yaml:4", "methods[0].pipeline[0]", "unknown stage 'marching_cube'", "did you mean 'marching_cubes'"});
+  // Wrong type.
+  ExpectError(
+      "datasets: [{shapes: [sphere]}]\ninputs:\n  - pipeline:\n      - stage: sdf_grid\n        params: {n: abc}\n"
+      "methods: [{pipeline: [marching_cubes]}]\n",
+      {"exp.yaml:5", "inputs[0].pipeline[0].params.n", "must be an integer"});
+  // Out of range, with the allowed range.
+  ExpectError(
+      "datasets: [{shapes: [sphere]}]\ninputs:\n  - pipeline:\n      - stage: sdf_grid\n        params:\n"
+      "          n: 0\nmethods: [{pipeline: [marching_cubes]}]\n",
+      {"exp.yaml:6", "params.n", "out of range [1, 2048]"});
+  // Unknown parameter.
+  ExpectError(
+      "datasets: [{shapes: [sphere]}]\nmethods:\n  - pipeline:\n      - stage: marching_cubes\n        params: {levle: 1}\n",
+      {"exp.yaml:5", "no parameter 'levle'", "did you mean 'level'"});
+  // Missing files.
+  ExpectError("datasets:\n  - files: [does_not_exist/*.obj]\nmethods: [{pipeline: [marching_cubes]}]\n",
+              {"exp.yaml:2", "datasets[0].files", "matches no file"});
+  // A stage in the wrong role.
+  ExpectError("datasets: [{shapes: [sphere]}]\nmethods: [{pipeline: [marching_cubes]}]\nmetrics: [sdf_grid]\n",
+              {"exp.yaml:3", "metrics[0]", "evaluator"});
+  // YAML syntax error: one line with file:line.
+  ExpectError("name: t\ndatasets: [\n  - foo: : :\n", {"exp.yaml:", "YAML syntax error"});
+  // Missing methods.
+  ExpectError("datasets: [{shapes: [sphere]}]\n", {"methods", "missing"});
+  // Bad override value location.
+  ExpectError(kGood, {"--set", "params.n", "must be an integer"}, {"inputs.grid.sdf_grid.n=[x]"});
+}
+
+}  // namespace
+}  // namespace arcs
