@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian packages arcs needs (idempotent, non-interactive).
+# Why each one:
+#   cmake g++ make pkg-config  build toolchain
+#   ccache                     fast rebuilds (used automatically when present)
+#   libeigen3-dev              dense linear algebra, the matrix types of every module
+#   libyaml-cpp-dev            experiment files (with line/column marks for errors)
+#   libtbb-dev                 parallel loops
+#   libnanoflann-dev           kd-tree k-nearest neighbours (header-only; measured in bench/)
+#   libgtest-dev               the test suite
+#   libcgal-dev libembree-dev  only for bench/spatial_bench (closest-point comparison)
+set -euo pipefail
+
+PACKAGES=(cmake g++ make pkg-config ccache libeigen3-dev libyaml-cpp-dev libtbb-dev libnanoflann-dev
+          libgtest-dev libcgal-dev libembree-dev libboost-dev)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install_deps: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+  SUDO="sudo"
+fi
+echo "install_deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install_deps: done"
