@@ -347,6 +347,25 @@ std::string Case::Label() const {
   return s + " | " + input + " | " + method;
 }
 
+namespace {
+// A copy of a node built programmatically, so it carries no file mark and
+// errors about it say "--set override" instead of a wrong line.
+YAML::Node Unmarked(const YAML::Node& n) {
+  if (n.IsScalar()) return YAML::Node(n.Scalar());
+  if (n.IsSequence()) {
+    YAML::Node out(YAML::NodeType::Sequence);
+    for (const auto& e : n) out.push_back(Unmarked(e));
+    return out;
+  }
+  if (n.IsMap()) {
+    YAML::Node out(YAML::NodeType::Map);
+    for (const auto& kv : n) out[kv.first.Scalar()] = Unmarked(kv.second);
+    return out;
+  }
+  return YAML::Node();
+}
+}  // namespace
+
 void ApplyOverride(YAML::Node& doc, const std::string& assignment) {
   const size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
@@ -354,7 +373,7 @@ void ApplyOverride(YAML::Node& doc, const std::string& assignment) {
   const std::string path = assignment.substr(0, eq);
   YAML::Node value;
   try {
-    value = YAML::Load(assignment.substr(eq + 1));
+    value = Unmarked(YAML::Load(assignment.substr(eq + 1)));
   } catch (const YAML::Exception& e) {
     throw ExperimentError("--set " + assignment + ": value is not valid YAML: " + e.msg);
   }

@@ -2,6 +2,8 @@
 
 #include "framework/error.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <map>
 #include <utility>

@@ -1,0 +1,124 @@
+#include "framework/sdf/sdf_sampling.h"
+
+#include "framework/error.h"
+#include "framework/spatial/triangle_bvh.h"
+#include "framework/spatial/winding_number.h"
+#include "framework/util/parallel.h"
+#include "framework/util/rng.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace arcs {
+
+void SdfGridOptions::Check() const {
+  ARCS_CHECK_OPTION(n >= 1 && n <= 2000, "n", n, "an integer in [1, 2000]");
+  ARCS_CHECK_OPTION(std::isfinite(lo), "lo", lo, "finite");
+  ARCS_CHECK_OPTION(std::isfinite(hi) && hi > lo, "hi", hi, "finite and greater than lo");
+  ARCS_CHECK_OPTION(std::isfinite(fwn_beta) && fwn_beta > 0.0, "fwn_beta", fwn_beta,
+                    "a finite number > 0");
+}
+
+VectorXd SignedDistance(const Mesh& mesh, const MatrixX3d& points, SdfSign sign,
+                        double fwn_beta) {
+  if (mesh.Empty()) throw Error("SignedDistance: the mesh is empty");
+  VectorXd sq;
+  const TriangleBvh bvh(mesh);
+  bvh.ClosestPoints(points, &sq);
+  VectorXd w;
+  if (sign == SdfSign::kExactWindingNumber) {
+    w = WindingNumbersExact(mesh, points);
+  } else {
+    FastWindingNumber::Options fo;
+    fo.beta = fwn_beta;
+    const FastWindingNumber fwn(mesh, fo);
+    w = fwn.Eval(points);
+  }
+  VectorXd s(points.rows());
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    const double d = std::sqrt(sq[i]);
+    s[i] = w[i] > 0.5 ? -d : d;
+  }
+  return s;
+}
+
+SdfSamples SampleSdfGrid(const Mesh& mesh, const SdfGridOptions& options, const Context& ctx) {
+  options.Check();
+  if (mesh.Empty()) throw Error("SampleSdfGrid: the mesh is empty");
+  const int m = options.n + 1;
+  GridInfo grid;
+  grid.dim = 3;
+  grid.dims = {m, m, m};
+  grid.min = {options.lo, options.lo, options.lo};
+  grid.max = {options.hi, options.hi, options.hi};
+  // linspace(lo, hi, n+1): lo + i*h, with the last node exactly hi.
+  std::vector<double> c(m);
+  const double h = (options.hi - options.lo) / options.n;
+  for (int i = 0; i < m; ++i) c[i] = options.lo + i * h;
+  c.back() = options.hi;
+
+  const std::int64_t total = grid.NumNodes();
+  SdfSamples out;
+  out.dim = 3;
+  out.points.resize(total, 3);
+  ParallelFor(total, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t idx = b; idx < e; ++idx) {
+      const std::int64_t i = idx % m, j = (idx / m) % m, k = idx / (static_cast<std::int64_t>(m) * m);
+      out.points(idx, 0) = c[i];
+      out.points(idx, 1) = c[j];
+      out.points(idx, 2) = c[k];
+    }
+  }, 1 << 14);
+  ctx.CheckStop();
+  const MatrixX3d P = out.points;  // MatrixXd (dynamic columns) -> N x 3
+  out.values = SignedDistance(mesh, P, options.sign, options.fwn_beta);
+  out.grid = grid;
+  return out;
+}
+
+SdfSamples SampleSdfRandom(const Mesh& mesh, std::int64_t count, double lo, double hi,
+                           const Context& ctx, SdfSign sign) {
+  if (count < 0) throw Error("SampleSdfRandom: count = " + std::to_string(count) + " < 0");
+  if (!(std::isfinite(lo) && std::isfinite(hi) && hi > lo)) {
+    throw Error("SampleSdfRandom: the box [lo, hi] must be finite with hi > lo");
+  }
+  if (mesh.Empty()) throw Error("SampleSdfRandom: the mesh is empty");
+  const std::uint64_t seed = ctx.StreamSeed("sdf_random");
+  MatrixX3d P(count, 3);
+  ParallelFor(count, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i) {
+      Rng rng(HashSeed(seed, static_cast<std::uint64_t>(i)));
+      for (int a = 0; a < 3; ++a) P(i, a) = rng.Uniform(lo, hi);
+    }
+  }, 4096);
+  ctx.CheckStop();
+  SdfSamples out;
+  out.dim = 3;
+  out.values = SignedDistance(mesh, P, sign);
+  out.points = P;
+  return out;
+}
+
+void AddGaussianNoise(SdfSamples* samples, double sigma, std::uint64_t seed) {
+  ARCS_CHECK_OPTION(std::isfinite(sigma) && sigma >= 0.0, "sigma", sigma, "a finite number >= 0");
+  if (sigma == 0.0) return;
+  VectorXd& v = samples->values;
+  ParallelFor(v.size(), [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i) {
+      Rng rng(HashSeed(seed, static_cast<std::uint64_t>(i)));
+      v[i] += sigma * rng.Normal();
+    }
+  }, 4096);
+}
+
+void ClampSdf(SdfSamples* samples, double clamp) {
+  ARCS_CHECK_OPTION(std::isfinite(clamp) && clamp > 0.0, "clamp", clamp, "a finite number > 0");
+  for (Eigen::Index i = 0; i < samples->values.size(); ++i) {
+    samples->values[i] = std::clamp(samples->values[i], -clamp, clamp);
+  }
+  // Clamping an already clamped SDF keeps the tighter bound.
+  samples->clamp = samples->clamp > 0.0 ? std::min(samples->clamp, clamp) : clamp;
+}
+
+}  // namespace arcs
