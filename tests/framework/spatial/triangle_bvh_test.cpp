@@ -1,0 +1,180 @@
+#include "framework/spatial/triangle_bvh.h"
+
+#include "framework/util/parallel.h"
+#include "framework/util/rng.h"
+#include "tests/framework/spatial/spatial_test_meshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+namespace arcs {
+namespace {
+
+using spatial_test::Icosphere;
+using spatial_test::Torus;
+
+// Reference point-triangle squared distance, written independently of the
+// library: projection onto the plane when it falls inside, else the closest
+// of the three edges.
+double SegSq(const Vec3& a, const Vec3& b, const Vec3& q) {
+  const Vec3 d = b - a;
+  const double dd = d.squaredNorm();
+  double t = dd > 0 ? (q - a).dot(d) / dd : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return (a + t * d - q).squaredNorm();
+}
+
+double RefTriSq(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& q) {
+  const Vec3 e0 = b - a, e1 = c - a, w = q - a;
+  const double a00 = e0.dot(e0), a01 = e0.dot(e1), a11 = e1.dot(e1);
+  const double det = a00 * a11 - a01 * a01;
+  if (det > 1e-14 * a00 * a11) {
+    const double b0 = e0.dot(w), b1 = e1.dot(w);
+    const double s = (a11 * b0 - a01 * b1) / det, t = (a00 * b1 - a01 * b0) / det;
+    if (s >= 0 && t >= 0 && s + t <= 1) return (a + s * e0 + t * e1 - q).squaredNorm();
+  }
+  return std::min({SegSq(a, b, q), SegSq(b, c, q), SegSq(c, a, q)});
+}
+
+double BruteSq(const Mesh& m, const Vec3& q) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int f = 0; f < m.NumFaces(); ++f)
+    best = std::min(best, RefTriSq(m.V.row(m.F(f, 0)), m.V.row(m.F(f, 1)), m.V.row(m.F(f, 2)), q));
+  return best;
+}
+
+MatrixX3d RandomPoints(int n, double lo, double hi, std::uint64_t seed) {
+  Rng rng(seed);
+  MatrixX3d Q(n, 3);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) Q(i, k) = rng.Uniform(lo, hi);
+  return Q;
+}
+
+// Every answer matches brute force; the returned point lies on the returned
+// face at the returned distance.
+void CheckAgainstBruteForce(const Mesh& m, const MatrixX3d& Q) {
+  const TriangleBvh bvh(m);
+  VectorXd d2;
+  MatrixX3d P;
+  Eigen::VectorXi F;
+  bvh.ClosestPoints(Q, &d2, &P, &F);
+  for (int i = 0; i < Q.rows(); ++i) {
+    const Vec3 q = Q.row(i);
+    const double ref = BruteSq(m, q);
+    ASSERT_NEAR(d2[i], ref, 1e-12 * ref + 1e-300) << "query " << i;
+    ASSERT_GE(F[i], 0);
+    const Vec3 p = P.row(i);
+    EXPECT_NEAR((p - q).squaredNorm(), d2[i], 1e-12 * ref + 1e-300);
+    const double on_face = RefTriSq(m.V.row(m.F(F[i], 0)), m.V.row(m.F(F[i], 1)), m.V.row(m.F(F[i], 2)), p);
+    EXPECT_LE(on_face, 1e-24);
+    const TriangleBvh::Hit hit = bvh.Closest(q);
+    EXPECT_EQ(hit.sq_dist, d2[i]);
+    EXPECT_EQ(hit.face, F[i]);
+  }
+}
+
+TEST(TriangleBvh, IcosphereMatchesBruteForce) {
+  const Mesh m = Icosphere(3);
+  CheckAgainstBruteForce(m, RandomPoints(1500, -2.0, 2.0, 1));
+  CheckAgainstBruteForce(m, RandomPoints(500, -1.05, 1.05, 2));
+}
+
+TEST(TriangleBvh, TorusMatchesBruteForceRandomAndGrid) {
+  const Mesh m = Torus(1.0, 0.3, 48, 24);
+  CheckAgainstBruteForce(m, RandomPoints(1500, -1.6, 1.6, 3));
+  // Grid order exercises the warm-started batch path.
+  CheckAgainstBruteForce(m, spatial_test::GridPoints(14, -1.5, 1.5));
+}
+
+TEST(TriangleBvh, SphereDistanceIsAnalyticOutside) {
+  // Far from a fine icosphere the distance is |q| - 1 up to the chord error.
+  const Mesh m = Icosphere(5);
+  const TriangleBvh bvh(m);
+  const Vec3 q(3.0, -1.0, 2.0);
+  const TriangleBvh::Hit hit = bvh.Closest(q);
+  EXPECT_NEAR(std::sqrt(hit.sq_dist), q.norm() - 1.0, 2e-3);
+  // A vertex of the mesh is at distance 0 and is returned exactly.
+  const Vec3 v = m.V.row(17);
+  const TriangleBvh::Hit on = bvh.Closest(v);
+  EXPECT_EQ(on.sq_dist, 0.0);
+  EXPECT_EQ(on.point, v);
+}
+
+TEST(TriangleBvh, SearchRadiusLimitsTheAnswer) {
+  const Mesh m = Icosphere(2);
+  const TriangleBvh bvh(m);
+  const Vec3 q(0, 0, 3);  // distance 2 from the unit sphere's vertex (0,0,1)?
+  const double d2 = BruteSq(m, q);
+  EXPECT_EQ(bvh.Closest(q, 0.99 * d2).face, -1);
+  EXPECT_TRUE(std::isinf(bvh.Closest(q, 0.99 * d2).sq_dist));
+  const TriangleBvh::Hit hit = bvh.Closest(q, d2);
+  EXPECT_GE(hit.face, 0);
+  EXPECT_NEAR(hit.sq_dist, d2, 1e-12 * d2);
+}
+
+TEST(TriangleBvh, DegenerateFacesGiveFiniteExactAnswers) {
+  Mesh m;
+  m.V.resize(7, 3);
+  m.V << 0, 0, 0,  //
+      1, 0, 0,     //
+      2, 0, 0,     // collinear with 0 and 1
+      0, 1, 0,     //
+      0, 1, 0,     // duplicate of 3
+      0, 0, 1,     //
+      1, 1, 1;
+  m.F.resize(5, 3);
+  m.F << 0, 1, 2,  // collinear: a segment
+      3, 4, 4,     // repeated indices: a point
+      3, 4, 5,     // coincident corners: a segment
+      0, 0, 0,     // a single point
+      1, 6, 5;     // a regular triangle
+  const MatrixX3d Q = RandomPoints(800, -1.0, 3.0, 4);
+  const TriangleBvh bvh(m);
+  VectorXd d2;
+  MatrixX3d P;
+  bvh.ClosestPoints(Q, &d2, &P);
+  ASSERT_TRUE(d2.allFinite());
+  ASSERT_TRUE(P.allFinite());
+  CheckAgainstBruteForce(m, Q);
+  // Only degenerate faces.
+  Mesh d;
+  d.V = m.V;
+  d.F = m.F.topRows(4);
+  CheckAgainstBruteForce(d, RandomPoints(300, -1.0, 3.0, 5));
+}
+
+TEST(TriangleBvh, SameResultAtOneAndTwoThreads) {
+  const Mesh m = Torus(1.0, 0.4, 40, 20);
+  const TriangleBvh bvh(m);
+  const MatrixX3d Q = spatial_test::GridPoints(24, -1.7, 1.7);
+  VectorXd d1, d2;
+  Eigen::VectorXi f1, f2;
+  {
+    ThreadLimit one(1);
+    bvh.ClosestPoints(Q, &d1, nullptr, &f1);
+  }
+  {
+    ThreadLimit two(2);
+    bvh.ClosestPoints(Q, &d2, nullptr, &f2);
+  }
+  EXPECT_EQ(d1, d2);
+  EXPECT_EQ(f1, f2);
+}
+
+TEST(TriangleBvh, EmptyMesh) {
+  Mesh m;
+  m.V.resize(0, 3);
+  m.F.resize(0, 3);
+  const TriangleBvh bvh(m);
+  EXPECT_EQ(bvh.Closest(Vec3(1, 2, 3)).face, -1);
+  VectorXd d2;
+  MatrixX3d Q = RandomPoints(10, 0, 1, 6);
+  bvh.ClosestPoints(Q, &d2);
+  EXPECT_TRUE(std::isinf(d2[0]));
+}
+
+}  // namespace
+}  // namespace arcs
