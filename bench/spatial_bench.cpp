@@ -2,6 +2,12 @@
 // on one mesh (default: bunny_fixed from the workplace's shared data).
 //
 //   spatial_bench [MESH.obj] [--n 100] [--no-cgal] [--no-embree] [--no-exact]
+//   spatial_bench MESH.obj --sign-check [--n 63]
+//
+// --sign-check only compares the inside/outside test of FastWindingNumber with
+// the exact winding number on every node of the (n+1)^3 grid (exact sums for
+// the nodes inside the bounding box, 0 outside it, which is exact for a closed
+// mesh) and prints the number of disagreements.
 //
 // 1. Exact unsigned distance of the (n+1)^3 nodes of linspace(-1, 1, n+1)^3 to
 //    the mesh normalised to a unit longest side centred at 0: our TriangleBvh
@@ -27,6 +33,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -49,6 +56,15 @@ double Time(const std::function<void()>& f) {
   const double t0 = Now();
   f();
   return Now() - t0;
+}
+
+// Wall time, and the process CPU time in *cpu (on a shared machine the CPU
+// time shows whether the second thread really got a core).
+double Time(const std::function<void()>& f, double* cpu) {
+  const std::clock_t c0 = std::clock();
+  const double t = Time(f);
+  *cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+  return t;
 }
 
 // Minimal OBJ reader (v and f lines; polygons fan-triangulated).
@@ -127,12 +143,47 @@ double MaxAbsDistDiff(const VectorXd& a, const VectorXd& b) {
   return m;
 }
 
+// Indices of the grid nodes inside the mesh's bounding box.
+std::vector<std::int64_t> NodesInBox(const Mesh& mesh, const MatrixX3d& Q) {
+  const Vec3 lo = mesh.V.colwise().minCoeff().transpose(), hi = mesh.V.colwise().maxCoeff().transpose();
+  std::vector<std::int64_t> in_box;
+  for (std::int64_t i = 0; i < Q.rows(); ++i) {
+    const Vec3 q = Q.row(i);
+    if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) in_box.push_back(i);
+  }
+  return in_box;
+}
+
+int SignCheck(const Mesh& mesh, int n, const std::string& path) {
+  const MatrixX3d Q = Grid(n);
+  const std::vector<std::int64_t> in_box = NodesInBox(mesh, Q);
+  MatrixX3d Qb(in_box.size(), 3);
+  for (std::size_t k = 0; k < in_box.size(); ++k) Qb.row(k) = Q.row(in_box[k]);
+  VectorXd exact_box, fast;
+  const double te = Time([&] { exact_box = arcs::WindingNumbersExact(mesh, Qb); });
+  const double tf = Time([&] { fast = arcs::FastWindingNumber(mesh).Eval(Q); });
+  VectorXd exact = VectorXd::Zero(Q.rows());
+  for (std::size_t k = 0; k < in_box.size(); ++k) exact[in_box[k]] = exact_box[k];
+  std::int64_t wrong = 0, inside = 0;
+  double maxdw = 0.0;
+  for (std::int64_t i = 0; i < Q.rows(); ++i) {
+    wrong += (exact[i] > 0.5) != (fast[i] > 0.5);
+    inside += exact[i] > 0.5;
+    maxdw = std::max(maxdw, std::abs(exact[i] - fast[i]));
+  }
+  std::printf("sign check %s: %d faces, %lld nodes (%zu in the box, %lld inside): disagreements %lld, "
+              "max |w_fast - w_exact| %.2e (exact %.1f s, fast %.3f s)\n",
+              path.c_str(), mesh.NumFaces(), static_cast<long long>(Q.rows()), in_box.size(),
+              static_cast<long long>(inside), static_cast<long long>(wrong), maxdw, te, tf);
+  return wrong == 0 ? 0 : 3;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string path = ARCS_BENCH_DEFAULT_MESH;
   int n = 100;
-  bool use_cgal = true, use_embree = true, use_exact = true;
+  bool use_cgal = true, use_embree = true, use_exact = true, sign_check = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--n") && i + 1 < argc) {
       n = std::atoi(argv[++i]);
@@ -142,8 +193,12 @@ int main(int argc, char** argv) {
       use_embree = false;
     } else if (!std::strcmp(argv[i], "--no-exact")) {
       use_exact = false;
+    } else if (!std::strcmp(argv[i], "--sign-check")) {
+      sign_check = true;
     } else if (argv[i][0] == '-') {
-      std::fprintf(stderr, "usage: %s [MESH.obj] [--n N] [--no-cgal] [--no-embree] [--no-exact]\n", argv[0]);
+      std::fprintf(stderr,
+                   "usage: %s [MESH.obj] [--n N] [--no-cgal] [--no-embree] [--no-exact] [--sign-check]\n",
+                   argv[0]);
       return 2;
     } else {
       path = argv[i];
@@ -163,6 +218,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   NormalizeUnitBox(&mesh);
+  if (sign_check) return SignCheck(mesh, n, path);
   const MatrixX3d Q = Grid(n);
   std::printf("mesh %s: %d vertices, %d faces (normalised: longest side 1, centred)\n", path.c_str(),
               mesh.NumVertices(), mesh.NumFaces());
@@ -175,27 +231,35 @@ int main(int argc, char** argv) {
   std::unique_ptr<arcs::TriangleBvh> bvh;
   t_build = Time([&] { bvh = std::make_unique<arcs::TriangleBvh>(mesh); });
   VectorXd d_ours1, d_ours2;
-  double t1, t2;
+  double t1, t2, c1, c2;
   {
     arcs::ThreadLimit lim(1);
-    t1 = Time([&] { bvh->ClosestPoints(Q, &d_ours1); });
+    t1 = Time([&] { bvh->ClosestPoints(Q, &d_ours1); }, &c1);
   }
   {
     arcs::ThreadLimit lim(2);
-    t2 = Time([&] { bvh->ClosestPoints(Q, &d_ours2); });
+    t2 = Time([&] { bvh->ClosestPoints(Q, &d_ours2); }, &c2);
   }
-  std::printf("  arcs TriangleBvh   build %.3f s | 1 thread %.3f s (%.0f k q/s) | 2 threads %.3f s | 1 vs 2 threads identical: %s\n",
-              t_build, t1, Q.rows() / t1 / 1e3, t2, d_ours1 == d_ours2 ? "yes" : "NO");
+  std::printf("  arcs TriangleBvh   build %.3f s | 1 thread %.3f s (cpu %.3f s, %.0f k q/s) | 2 threads %.3f s "
+              "(cpu %.3f s) | 1 vs 2 threads identical: %s\n",
+              t_build, t1, c1, Q.rows() / t1 / 1e3, t2, c2, d_ours1 == d_ours2 ? "yes" : "NO");
   std::vector<double> flatV(mesh.V.data(), mesh.V.data() + mesh.V.size());
   std::vector<int> flatF(mesh.F.data(), mesh.F.data() + mesh.F.size());
 #ifdef ARCS_BENCH_HAVE_CGAL
   if (use_cgal) {
     VectorXd d(Q.rows());
     double build;
-    const double t = arcs::bench::CgalClosestSqDists(flatV.data(), mesh.NumVertices(), flatF.data(),
-                                                     mesh.NumFaces(), Q.data(), Q.rows(), 1, d.data(), &build);
-    std::printf("  CGAL AABB_tree     build %.3f s | 1 thread %.3f s = %.1fx ours | max |d - d_ours| = %.3g\n",
-                build, t, t / t1, MaxAbsDistDiff(d, d_ours1));
+    double t = 0.0, cpu = 0.0;
+    Time(
+        [&] {
+          t = arcs::bench::CgalClosestSqDists(flatV.data(), mesh.NumVertices(), flatF.data(), mesh.NumFaces(), Q.data(),
+                                  Q.rows(), 1, d.data(), &build);
+        },
+        &cpu);
+    // CPU-time ratio too: robust when the machine is shared.
+    std::printf("  CGAL AABB_tree     build %.3f s | 1 thread %.3f s = %.1fx ours (cpu %.3f s = %.1fx ours) | "
+                "max |d - d_ours| = %.3g\n",
+                build, t, t / t1, cpu - build, (cpu - build) / c1, MaxAbsDistDiff(d, d_ours1));
   }
 #else
   (void)use_cgal;
@@ -205,10 +269,17 @@ int main(int argc, char** argv) {
   if (use_embree) {
     VectorXd d(Q.rows());
     double build;
-    const double t = arcs::bench::EmbreeClosestSqDists(flatV.data(), mesh.NumVertices(), flatF.data(),
-                                                       mesh.NumFaces(), Q.data(), Q.rows(), 1, d.data(), &build);
-    std::printf("  Embree rtcPointQuery build %.3f s | 1 thread %.3f s = %.1fx ours | max |d - d_ours| = %.3g\n",
-                build, t, t / t1, MaxAbsDistDiff(d, d_ours1));
+    double t = 0.0, cpu = 0.0;
+    Time(
+        [&] {
+          t = arcs::bench::EmbreeClosestSqDists(flatV.data(), mesh.NumVertices(), flatF.data(), mesh.NumFaces(), Q.data(),
+                                  Q.rows(), 1, d.data(), &build);
+        },
+        &cpu);
+    // CPU-time ratio too: robust when the machine is shared.
+    std::printf("  Embree rtcPointQuery build %.3f s | 1 thread %.3f s = %.1fx ours (cpu %.3f s = %.1fx ours) | "
+                "max |d - d_ours| = %.3g\n",
+                build, t, t / t1, cpu - build, (cpu - build) / c1, MaxAbsDistDiff(d, d_ours1));
   }
 #else
   (void)use_embree;
@@ -220,27 +291,23 @@ int main(int argc, char** argv) {
   std::unique_ptr<arcs::FastWindingNumber> fwn;
   const double t_fbuild = Time([&] { fwn = std::make_unique<arcs::FastWindingNumber>(mesh); });
   VectorXd w1, w2;
-  double s1, s2;
+  double s1, s2, sc1, sc2;
   {
     arcs::ThreadLimit lim(1);
-    s1 = Time([&] { w1 = fwn->Eval(Q); });
+    s1 = Time([&] { w1 = fwn->Eval(Q); }, &sc1);
   }
   {
     arcs::ThreadLimit lim(2);
-    s2 = Time([&] { w2 = fwn->Eval(Q); });
+    s2 = Time([&] { w2 = fwn->Eval(Q); }, &sc2);
   }
-  std::printf("  FastWindingNumber (beta 2)  build %.3f s | 1 thread %.3f s (%.0f k q/s) | 2 threads %.3f s | identical: %s\n",
-              t_fbuild, s1, Q.rows() / s1 / 1e3, s2, w1 == w2 ? "yes" : "NO");
+  std::printf("  FastWindingNumber (beta 2, order 2)  build %.3f s | 1 thread %.3f s (cpu %.3f s, %.0f k q/s) | "
+              "2 threads %.3f s (cpu %.3f s) | identical: %s\n",
+              t_fbuild, s1, sc1, Q.rows() / s1 / 1e3, s2, sc2, w1 == w2 ? "yes" : "NO");
   std::printf("  distance + sign, 2 threads: %.3f s (target < 5 s)\n", t2 + s2);
   if (use_exact) {
     // Nodes outside the bounding box have winding number exactly 0 for a
     // closed mesh; compare on a strided subset of the nodes inside it.
-    const Vec3 lo = mesh.V.colwise().minCoeff().transpose(), hi = mesh.V.colwise().maxCoeff().transpose();
-    std::vector<std::int64_t> in_box;
-    for (std::int64_t i = 0; i < Q.rows(); ++i) {
-      const Vec3 q = Q.row(i);
-      if ((q.array() >= lo.array()).all() && (q.array() <= hi.array()).all()) in_box.push_back(i);
-    }
+    const std::vector<std::int64_t> in_box = NodesInBox(mesh, Q);
     const std::int64_t want = 4000;
     const std::int64_t stride = std::max<std::int64_t>(1, static_cast<std::int64_t>(in_box.size()) / want);
     std::vector<std::int64_t> subset;
@@ -281,18 +348,22 @@ int main(int argc, char** argv) {
     arcs::ThreadLimit lim(threads);
     Eigen::VectorXi ia, ib;
     VectorXd da, db;
-    double tb = 0, tq = 0;
-    tb += Time([&] {
-      arcs::KdTree3 ta(A), tbt(B);
-      tq += Time([&] {
-        tbt.NearestBatch(A, &ia, &da);
-        ta.NearestBatch(B, &ib, &db);
-      });
-    });
+    double tb = 0, tq = 0, cb = 0, cq = 0;
+    tb += Time(
+        [&] {
+          arcs::KdTree3 ta(A), tbt(B);
+          tq += Time(
+              [&] {
+                tbt.NearestBatch(A, &ia, &da);
+                ta.NearestBatch(B, &ib, &db);
+              },
+              &cq);
+        },
+        &cb);
     const double chamfer = std::sqrt(da.mean()) + std::sqrt(db.mean());
-    std::printf("  %d thread(s): build both %.3f s, query both directions %.3f s, total %.3f s "
-                "(Chamfer %.4g)\n",
-                threads, tb - tq, tq, tb, chamfer);
+    std::printf("  %d thread(s): build both %.3f s, query both directions %.3f s (cpu %.3f s), total %.3f s "
+                "(cpu %.3f s) (Chamfer %.4g)\n",
+                threads, tb - tq, tq, cq, tb, cb, chamfer);
   }
   return 0;
 }

@@ -1,5 +1,7 @@
 #include "registry/stage.h"
 
+#include "registry/registry.h"
+
 namespace arcs {
 
 namespace {
@@ -56,6 +58,12 @@ const SdfSamples& CaseData::RequireSamples(const std::string& stage) const {
 const Mesh& CaseData::RequireOutput(const std::string& stage) const {
   if (!output) throw Error(stage + ": needs the method's output mesh, but the method produced none");
   return *output;
+}
+
+void RunNestedStage(const StageSpec& spec, Context& ctx, CaseData& data) {
+  if (!data.registry) throw Error("internal: nested stage '" + spec.stage + "' needs the case's registry");
+  auto stage = data.registry->Get(spec.stage).factory(spec.params);
+  stage->Run(ctx, data);
 }
 
 namespace {

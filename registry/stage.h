@@ -34,14 +34,27 @@ const char* RoleName(Role r);
 // Parses a role name as printed by RoleName; throws Error if unknown.
 Role ParseRole(const std::string& name);
 
+class Registry;
+
 // Everything a case carries from stage to stage.
 struct CaseData {
+  // The registry the case runs with, so a stage can run a nested stage (e.g.
+  // the fine-tuner's reconstructor); see RunNestedStage.
+  const Registry* registry = nullptr;
   std::string item;            // dataset item name (file stem)
   std::string item_path;       // dataset file, if any
   std::optional<Mesh> reference;     // ground-truth mesh (normalised)
   std::optional<SdfSamples> samples; // SDF samples
   std::optional<PointCloud> free_points;  // empty-space samples (role kEmptySpaceSampler)
+  // RFTA's sign separation (paper §4.1): per row of `free_points`, the sign of
+  // the spheres whose free space it samples: +1 = outside all s > 0 spheres,
+  // -1 = outside all s < 0 spheres. Empty = every point serves both signs.
+  // Free points are in the samples' (input) frame and carry no normals.
+  std::vector<signed char> free_point_sign;
   std::optional<PointCloud> points;       // oriented points (projector / fine-tuner output)
+  // For RFTA: the SDF sample (sphere) each oriented point belongs to, one per
+  // row of `points` (empty when not applicable).
+  std::vector<int> point_sample;
   std::optional<Mesh> output;        // the method's output mesh
   // Metrics and facts in insertion order; the runner writes them as columns.
   std::vector<std::pair<std::string, double>> metrics;
@@ -59,6 +72,10 @@ class Stage {
 };
 
 using StageFactory = std::function<std::unique_ptr<Stage>(const ParamMap&)>;
+
+// Runs the nested stage `spec` (a resolved kStage parameter) on `data`, using
+// data.registry. Throws Error if the case has no registry.
+void RunNestedStage(const StageSpec& spec, Context& ctx, CaseData& data);
 
 struct StageInfo {
   std::string name;

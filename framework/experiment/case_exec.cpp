@@ -69,6 +69,7 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
 
   std::int64_t peak_before_method = 0;  // the method's peak is measured after a reset
   CaseData data;
+  data.registry = &registry;
   data.item = c.item;
   data.item_path = c.item_path;
   // Seeds: inputs and metrics depend only on (seed, item, input), so every

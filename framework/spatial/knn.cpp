@@ -2,10 +2,11 @@
 //
 // The points are stored in Morton (Z-curve) order so that a kd-tree leaf reads
 // contiguous memory; indices are mapped back to the caller's order. Batch
-// queries are also processed in Morton order (better cache reuse) and warm
-// started with a radius bound from the previous query, d(q) <= d(q') + |q - q'|,
+// queries are also processed in Morton order (cache reuse) and warm started
+// with the distance to the previous query's nearest point as search radius,
 // which does not change the answer: nearest = lexicographic minimum of
-// (squared distance, original index).
+// (squared distance, original index). nanoflann 1.4 API (findNeighbors with a
+// custom result set).
 #include "framework/spatial/knn.h"
 
 #include "framework/util/parallel.h"
@@ -41,7 +42,7 @@ class NearestResult {
  public:
   using DistanceType = double;
   using IndexType = std::uint32_t;
-  NearestResult(double max_sq, const std::int32_t* original) : best_(max_sq), original_(original) {}
+  NearestResult(double max_sq, const int* original) : best_(max_sq), original_(original) {}
   std::size_t size() const { return idx_ == kNone ? 0 : 1; }
   bool full() const { return true; }
   bool addPoint(double d, std::uint32_t i) {
@@ -52,9 +53,9 @@ class NearestResult {
     return true;
   }
   // Slightly above the best so that exact ties (also at distance 0) still
-  // reach addPoint, which decides exactly (nanoflann tests `dist <
-  // worstDist()` at leaves).
-  double worstDist() const { return best_ * (1.0 + 0x1p-50) + 0x1p-1074; }
+  // reach addPoint, which decides exactly (nanoflann prunes with rounded
+  // incremental box distances and tests `dist < worstDist()` at leaves).
+  double worstDist() const { return best_ * (1.0 + 1e-12) + 0x1p-1074; }
   double best() const { return best_; }
   std::uint32_t index() const { return idx_; }
   static constexpr std::uint32_t kNone = 0xffffffffu;
@@ -62,15 +63,17 @@ class NearestResult {
  private:
   double best_;
   std::uint32_t idx_ = kNone;
-  const std::int32_t* original_;
+  const int* original_;
 };
+
+}  // namespace
 
 // Indices in Morton (Z-curve) order of 10 bits per axis over the bounding box
 // (1024^3 cells; order inside a cell is by index). Keys (code << 32 | index)
 // are sorted by an LSD radix sort of the 30 code bits, 3 passes of 10 bits.
-std::vector<std::int32_t> MortonOrder(const MatrixX3d& P) {
+std::vector<int> MortonOrder(const MatrixX3d& P) {
   const std::int64_t n = P.rows();
-  std::vector<std::int32_t> order(n);
+  std::vector<int> order(n);
   if (n == 0) return order;
   const Vec3 lo = P.colwise().minCoeff().transpose(), hi = P.colwise().maxCoeff().transpose();
   const double ext = std::max((hi - lo).maxCoeff(), 1e-300);
@@ -106,15 +109,13 @@ std::vector<std::int32_t> MortonOrder(const MatrixX3d& P) {
     for (std::int64_t i = 0; i < n; ++i) b[count[(a[i] >> shift) & 0x3ff]++] = a[i];
     a.swap(b);
   }
-  for (std::int64_t i = 0; i < n; ++i) order[i] = static_cast<std::int32_t>(a[i] & 0xffffffffu);
+  for (std::int64_t i = 0; i < n; ++i) order[i] = static_cast<int>(a[i] & 0xffffffffu);
   return order;
 }
 
-}  // namespace
-
 struct KdTree3::Impl {
   Cloud cloud;
-  std::vector<std::int32_t> original;  // sorted position -> caller's index
+  std::vector<int> original;  // sorted position -> caller's index
   std::unique_ptr<Tree> tree;
 
   // Nearest with a squared radius bound; returns the sorted index or kNone.
@@ -163,26 +164,29 @@ void KdTree3::NearestBatch(const MatrixX3d& Q, Eigen::VectorXi* index, VectorXd*
     if (sq_dist) sq_dist->setConstant(std::numeric_limits<double>::infinity());
     return;
   }
-  const std::vector<std::int32_t> order = MortonOrder(Q);
+  const std::vector<int> order = MortonOrder(Q);
   ParallelFor(
       n,
       [&](std::int64_t begin, std::int64_t end) {
-        double prev_d = -1.0;
-        double prev_q[3] = {0, 0, 0};
+        // Warm start: the previous query's nearest point bounds this query's
+        // distance from above (queries run in Morton order, so it is usually
+        // the answer or close to it). The answer does not depend on it.
+        std::uint32_t prev = NearestResult::kNone;
+        const double* xyz = impl_->cloud.xyz.data();
         for (std::int64_t s = begin; s < end; ++s) {
           const std::int64_t i = order[s];
           const double q[3] = {Q(i, 0), Q(i, 1), Q(i, 2)};
           double d2 = std::numeric_limits<double>::infinity();
           std::uint32_t j = NearestResult::kNone;
-          if (prev_d >= 0.0) {
-            const double dx = q[0] - prev_q[0], dy = q[1] - prev_q[1], dz = q[2] - prev_q[2];
-            const double ub = prev_d + std::sqrt(dx * dx + dy * dy + dz * dz);
-            j = impl_->Nearest(q, ub * ub * (1.0 + 1e-9) + 1e-300, &d2);
+          if (prev != NearestResult::kNone) {
+            const double dx = q[0] - xyz[3 * prev], dy = q[1] - xyz[3 * prev + 1],
+                         dz = q[2] - xyz[3 * prev + 2];
+            const double ub = dx * dx + dy * dy + dz * dz;
+            j = impl_->Nearest(q, ub * (1.0 + 1e-12) + 1e-300, &d2);
           }
           if (j == NearestResult::kNone)
             j = impl_->Nearest(q, std::numeric_limits<double>::infinity(), &d2);
-          prev_d = std::sqrt(d2);
-          prev_q[0] = q[0], prev_q[1] = q[1], prev_q[2] = q[2];
+          prev = j;
           if (index) (*index)[i] = impl_->original[j];
           if (sq_dist) (*sq_dist)[i] = d2;
         }

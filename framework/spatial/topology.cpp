@@ -2,15 +2,19 @@
 // vertex fans by union-find.
 #include "framework/spatial/topology.h"
 
+#include "framework/error.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
+#include <string>
 #include <vector>
 
 namespace arcs {
 namespace {
+
 
 class UnionFind {
  public:
@@ -33,7 +37,24 @@ class UnionFind {
 
 }  // namespace
 
+void CheckMeshIndices(const Mesh& mesh, const char* who, bool finite) {
+  const int nv = mesh.NumVertices();
+  for (int f = 0; f < mesh.NumFaces(); ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int v = mesh.F(f, k);
+      if (v < 0 || v >= nv)
+        throw InputError("", 0, std::string(who) + ": face " + std::to_string(f) + " has vertex index " +
+                                    std::to_string(v) + ", the mesh has " + std::to_string(nv) +
+                                    " vertices");
+      if (finite && !mesh.V.row(v).allFinite())
+        throw InputError("", 0, std::string(who) + ": vertex " + std::to_string(v) + " (used by face " +
+                                    std::to_string(f) + ") has a non-finite coordinate");
+    }
+  }
+}
+
 Topology ComputeTopology(const Mesh& mesh) {
+  CheckMeshIndices(mesh, "ComputeTopology");
   Topology t;
   const int nv = mesh.NumVertices();
   const int nf = mesh.NumFaces();
@@ -41,7 +62,6 @@ Topology ComputeTopology(const Mesh& mesh) {
   t.faces = nf;
 
   // Area, signed volume (divergence theorem: sum a.(b x c) / 6) and degeneracy.
-  double max_edge2_all = 0.0;
   for (int f = 0; f < nf; ++f) {
     const Vec3 a = mesh.V.row(mesh.F(f, 0)), b = mesh.V.row(mesh.F(f, 1)),
                c = mesh.V.row(mesh.F(f, 2));
@@ -50,7 +70,6 @@ Topology ComputeTopology(const Mesh& mesh) {
     t.area += 0.5 * len;
     t.volume += a.dot(b.cross(c)) / 6.0;
     const double e2 = std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), (c - b).squaredNorm()});
-    max_edge2_all = std::max(max_edge2_all, e2);
     const bool repeated =
         mesh.F(f, 0) == mesh.F(f, 1) || mesh.F(f, 1) == mesh.F(f, 2) || mesh.F(f, 0) == mesh.F(f, 2);
     // Zero area up to rounding: |cross| below 1e-12 of the longest edge squared.
@@ -97,7 +116,6 @@ Topology ComputeTopology(const Mesh& mesh) {
     int fwd = 0, bwd = 0;
     for (std::size_t a = i; a < j; ++a) (he[a].forward ? fwd : bwd)++;
     if (fwd > 1 || bwd > 1) oriented = false;  // a directed edge used twice
-    verts.Union(he[i].lo, he[i].hi);
     // Corner of vertex `x` in face f: the face's corner whose index is x.
     auto corner_of = [&](int f, int x) {
       for (int k = 0; k < 3; ++k)
@@ -111,10 +129,8 @@ Topology ComputeTopology(const Mesh& mesh) {
     i = j;
   }
   for (int f = 0; f < nf; ++f) {
-    // Components join through shared vertices, including faces whose only
-    // link is a vertex (the union over edges above covers every face's
-    // vertices, since each face has at least one non-collapsed edge unless all
-    // three indices coincide).
+    // Components: a face joins its vertices (faces sharing only a vertex are
+    // one component, as documented).
     verts.Union(mesh.F(f, 0), mesh.F(f, 1));
     verts.Union(mesh.F(f, 1), mesh.F(f, 2));
   }

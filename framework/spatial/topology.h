@@ -27,6 +27,16 @@ struct Topology {
   double volume = 0.0;            // signed (divergence theorem); > 0 for outward closed meshes
 };
 
+// Throws InputError on a face index outside [0, #V). Conventions: an edge is
+// an unordered vertex pair used by at least one face (collapsed edges of faces
+// with a repeated index are skipped); a face is degenerate when it repeats an
+// index or |cross| <= 1e-12 * (longest edge)^2; `oriented` fails when a
+// directed edge occurs twice.
 Topology ComputeTopology(const Mesh& mesh);
+
+// Throws InputError("<who>: face f has vertex index i, the mesh has n
+// vertices") unless every face index is in [0, #V) and, with `finite`, every
+// vertex used by a face has finite coordinates.
+void CheckMeshIndices(const Mesh& mesh, const char* who, bool finite = false);
 
 }  // namespace arcs

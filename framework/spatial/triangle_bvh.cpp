@@ -25,16 +25,22 @@
 // depend on the thread count).
 #include "framework/spatial/triangle_bvh.h"
 
+#include "framework/error.h"
+#include "framework/spatial/knn.h"
+#include "framework/spatial/topology.h"
 #include "framework/util/parallel.h"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <vector>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace arcs {
 namespace {
@@ -54,12 +60,14 @@ struct Node {
   std::int32_t count = 0;
 };
 
-// 4-wide query node, structure-of-arrays over the children (empty slots have
-// empty boxes, lo = +inf > hi = -inf, so their bound is +inf).
+// 4-wide query node, structure-of-arrays over the children: the last index of
+// each array is the child (SIMD lane). Empty slots have empty boxes, lo = +inf
+// > hi = -inf, so their bound is +inf. Coordinates are relative to the tree's
+// origin (see Impl).
 struct alignas(64) Node4 {
-  float lo[3][4], hi[3][4];  // axis-aligned boxes, rounded outward
-  float rot[9][4];           // oriented frames: rot[3 * k + j] = axis k, coordinate j
-  float olo[3][4], ohi[3][4];  // oriented extents, rounded outward
+  float lo[3][4], hi[3][4];    // axis-aligned boxes, rounded outward
+  float rot[9][4];             // oriented frames: rot[3 * k + c] = coordinate c of axis k
+  float olo[3][4], ohi[3][4];  // extents along the oriented axes, rounded outward
   std::int32_t child[4];     // inner: node index; leaf: first triangle
   std::int32_t count[4];     // 0: inner node; > 0: leaf with count triangles; -1: empty
 };
@@ -75,6 +83,27 @@ inline double Dot3(const double* u, const double* v) { return u[0] * v[0] + u[1]
 // reduced by `margin` (the float rounding of q and of rot * q), the result by
 // a relative 4e-6 (float frames are orthonormal to ~1e-7).
 inline void ChildLowerBounds(const Node4& n, const float* q, float margin, float* out) {
+#if defined(__SSE2__)
+  // Baseline x86-64 SIMD: one lane per child.
+  const __m128 zero = _mm_setzero_ps(), m = _mm_set1_ps(margin);
+  const __m128 qv[3] = {_mm_set1_ps(q[0]), _mm_set1_ps(q[1]), _mm_set1_ps(q[2])};
+  __m128 s = zero, o = zero;
+  for (int k = 0; k < 3; ++k) {
+    const __m128 gap = _mm_max_ps(_mm_sub_ps(_mm_load_ps(n.lo[k]), qv[k]),
+                                  _mm_sub_ps(qv[k], _mm_load_ps(n.hi[k])));
+    const __m128 d = _mm_max_ps(_mm_sub_ps(gap, m), zero);
+    s = _mm_add_ps(s, _mm_mul_ps(d, d));
+  }
+  for (int k = 0; k < 3; ++k) {
+    const __m128 r = _mm_add_ps(
+        _mm_add_ps(_mm_mul_ps(_mm_load_ps(n.rot[3 * k]), qv[0]), _mm_mul_ps(_mm_load_ps(n.rot[3 * k + 1]), qv[1])),
+        _mm_mul_ps(_mm_load_ps(n.rot[3 * k + 2]), qv[2]));
+    const __m128 gap = _mm_max_ps(_mm_sub_ps(_mm_load_ps(n.olo[k]), r), _mm_sub_ps(r, _mm_load_ps(n.ohi[k])));
+    const __m128 d = _mm_max_ps(_mm_sub_ps(gap, m), zero);
+    o = _mm_add_ps(o, _mm_mul_ps(d, d));
+  }
+  _mm_store_ps(out, _mm_mul_ps(_mm_max_ps(s, o), _mm_set1_ps(1.0f - 4e-6f)));
+#else
   for (int j = 0; j < 4; ++j) {
     float s = 0.0f, o = 0.0f;
     for (int k = 0; k < 3; ++k) {
@@ -88,6 +117,7 @@ inline void ChildLowerBounds(const Node4& n, const float* q, float margin, float
     }
     out[j] = std::max(s, o) * (1.0f - 4e-6f);
   }
+#endif
 }
 
 inline float RoundDown(double x) {
@@ -172,16 +202,7 @@ inline double TriClosest(const Tri& t, const double* q, double* out) {
                 t.a[2] + ab[2] * v + ac[2] * w);
 }
 
-#ifdef ARCS_BVH_STATS
-thread_local long g_stat_nodes = 0, g_stat_tris = 0;
-#endif
-
 }  // namespace
-
-#ifdef ARCS_BVH_STATS
-long BvhStatNodes() { return g_stat_nodes; }
-long BvhStatTris() { return g_stat_tris; }
-#endif
 
 struct TriangleBvh::Impl {
   Mesh mesh;
@@ -189,7 +210,10 @@ struct TriangleBvh::Impl {
   std::vector<Tri> tris;            // leaf order
   std::vector<std::int32_t> face;   // leaf order -> mesh face index
   std::vector<std::uint8_t> degenerate;
-  double coord_scale = 0.0;         // max |coordinate| of the mesh
+  // Float bounds are stored relative to `origin` (the bounding-box centre), so
+  // their precision follows the mesh's extent, not its position.
+  double origin[3] = {0, 0, 0};
+  double coord_scale = 0.0;         // max |coordinate - origin| over the mesh
   int max_depth = 0;                // of the 4-wide tree (sizes the traversal stack)
 
   void Build();
@@ -197,9 +221,13 @@ struct TriangleBvh::Impl {
   void FitOrientedBox(int begin, int end, Node4* node, int j) const;
   // Lexicographic minimum of (sq_dist, face) over faces with sq_dist <=
   // max_sq; face -1 when none.
-  TriangleBvh::Hit Query(const double* q, double max_sq) const;
-  template <class Stack>
-  TriangleBvh::Hit QueryWith(const double* q, double max_sq, Stack* stack) const;
+  // `tri` (optional) receives the internal (leaf-order) triangle index.
+  TriangleBvh::Hit Query(const double* q, double max_sq, int* tri = nullptr) const;
+  template <class Entry>
+  TriangleBvh::Hit QueryWith(const double* q, double max_sq, Entry* stack, int* tri) const;
+  double TriSqDist(int i, const double* q, double* p) const {
+    return degenerate[i] ? DegenerateClosest(tris[i], q, p) : TriClosest(tris[i], q, p);
+  }
 };
 
 namespace {
@@ -231,6 +259,7 @@ void TriangleBvh::Impl::Build() {
   const int nf = mesh.NumFaces();
   nodes.clear();
   if (nf == 0) return;
+  std::vector<Node> bin;  // binary tree
   std::vector<BuildItem> items(nf);
   for (int f = 0; f < nf; ++f) {
     BuildItem& it = items[f];
@@ -244,15 +273,14 @@ void TriangleBvh::Impl::Build() {
   }
   std::vector<std::int32_t> order(nf);
   for (int f = 0; f < nf; ++f) order[f] = f;
-  nodes.clear();
-  nodes.reserve(std::max(1, 2 * nf));
+  bin.reserve(std::max(1, 2 * nf));
 
   // Iterative build with an explicit stack of (node index, begin, end).
   struct Task {
     int node, begin, end;
   };
   std::vector<Task> stack;
-  nodes.emplace_back();
+  bin.emplace_back();
   stack.push_back({0, 0, nf});
   while (!stack.empty()) {
     const Task task = stack.back();
@@ -263,12 +291,12 @@ void TriangleBvh::Impl::Build() {
       box.Grow(it.lo, it.hi);
       cbox.GrowPoint(it.c);
     }
-    Node& node = nodes[task.node];
+    Node& node = bin[task.node];
     for (int k = 0; k < 3; ++k) node.lo[k] = box.lo[k], node.hi[k] = box.hi[k];
     const int n = task.end - task.begin;
     auto make_leaf = [&] {
-      nodes[task.node].first = task.begin;
-      nodes[task.node].count = n;
+      bin[task.node].first = task.begin;
+      bin[task.node].count = n;
     };
     if (n <= 1) {
       make_leaf();
@@ -331,36 +359,35 @@ void TriangleBvh::Impl::Build() {
       if (mid == task.begin || mid == task.end) mid = task.begin + n / 2;
     }
     // Depth-first layout: left child right after the parent.
-    const int left = static_cast<int>(nodes.size());
-    nodes.emplace_back();
+    const int left = static_cast<int>(bin.size());
+    bin.emplace_back();
     const int right = left + 1;  // children are allocated as a pair
-    nodes.emplace_back();
-    nodes[task.node].count = 0;
-    nodes[task.node].first = right;
+    bin.emplace_back();
+    bin[task.node].count = 0;
+    bin[task.node].first = right;
     stack.push_back({right, mid, task.end});
     stack.push_back({left, task.begin, mid});
   }
-  // Depth-first re-layout (left child = parent + 1) for cache locality.
+  // Depth-first re-layout of the binary tree (left child = parent + 1).
   {
     std::vector<Node> out;
-    out.reserve(nodes.size());
+    out.reserve(bin.size());
     std::vector<std::pair<int, int>> st;  // (old index, new index of parent to patch or -1)
     st.push_back({0, -1});
     while (!st.empty()) {
       auto [old, patch] = st.back();
       st.pop_back();
       const int idx = static_cast<int>(out.size());
-      out.push_back(nodes[old]);
+      out.push_back(bin[old]);
       if (patch >= 0) out[patch].first = idx;
-      if (nodes[old].count == 0) {
-        // Old layout: children were allocated as a pair (left, right = left + 1).
-        const int old_right = nodes[old].first;
-        const int old_left_idx = old_right - 1;
+      if (bin[old].count == 0) {
+        // Build layout: children were allocated as a pair (left, right = left + 1).
+        const int old_right = bin[old].first;
         st.push_back({old_right, idx});
-        st.push_back({old_left_idx, -1});
+        st.push_back({old_right - 1, -1});
       }
     }
-    nodes.swap(out);
+    bin.swap(out);
   }
   tris.resize(nf);
   face.resize(nf);
@@ -381,13 +408,17 @@ void TriangleBvh::Impl::Build() {
     // Sine of the largest angle below ~1e-10: handled as three segments.
     degenerate[i] = ab.cross(ac).squaredNorm() <= 1e-20 * l2 * l2 ? 1 : 0;
   }
-  coord_scale = 3.0 * mesh.V.cwiseAbs().maxCoeff();
-  // Oriented boxes. Triangle ranges: a leaf's own; an inner node's spans its
-  // children (left child = next node in the depth-first layout).
-  const int nn = static_cast<int>(nodes.size());
-  std::vector<int> range_begin(nn), range_end(nn);
-  for (int i = nn - 1; i >= 0; --i) {
-    const Node& nd = nodes[i];
+  for (int k = 0; k < 3; ++k) {
+    origin[k] = 0.5 * (mesh.V.col(k).minCoeff() + mesh.V.col(k).maxCoeff());
+    coord_scale = std::max(coord_scale, (mesh.V.col(k).array() - origin[k]).abs().maxCoeff());
+  }
+
+  // Triangle ranges of the binary nodes: a leaf's own; an inner node's spans
+  // its children (left child = next node).
+  const int nb = static_cast<int>(bin.size());
+  std::vector<int> range_begin(nb), range_end(nb);
+  for (int i = nb - 1; i >= 0; --i) {
+    const Node& nd = bin[i];
     if (nd.count > 0) {
       range_begin[i] = nd.first;
       range_end[i] = nd.first + nd.count;
@@ -396,10 +427,79 @@ void TriangleBvh::Impl::Build() {
       range_end[i] = range_end[nd.first];
     }
   }
-  for (int i = 0; i < nn; ++i) FitOrientedBox(range_begin[i], range_end[i], &nodes[i]);
+  auto half_area = [&](int i) {
+    const double d0 = bin[i].hi[0] - bin[i].lo[0], d1 = bin[i].hi[1] - bin[i].lo[1],
+                 d2 = bin[i].hi[2] - bin[i].lo[2];
+    return d0 * d1 + d1 * d2 + d2 * d0;
+  };
+  // Collapse into the 4-wide tree: a 4-wide node takes the two children of a
+  // binary node and keeps replacing its largest inner child by that child's
+  // two children while it has fewer than four. Nodes are emitted depth-first.
+  struct Pending {
+    int bnode;    // binary node to collapse (inner, or a leaf when the root is one)
+    int node4;    // its 4-wide index
+    int depth;
+  };
+  nodes.reserve(nb / 2 + 1);
+  nodes.emplace_back();
+  std::vector<Pending> todo{{0, 0, 1}};
+  max_depth = 1;
+  while (!todo.empty()) {
+    const Pending pd = todo.back();
+    todo.pop_back();
+    std::vector<int> kids;
+    if (bin[pd.bnode].count > 0) {
+      kids.push_back(pd.bnode);  // the whole tree is one leaf
+    } else {
+      kids = {pd.bnode + 1, bin[pd.bnode].first};
+      while (kids.size() < 4) {
+        int best = -1;
+        double best_area = -1.0;
+        for (int k = 0; k < static_cast<int>(kids.size()); ++k) {
+          if (bin[kids[k]].count == 0 && half_area(kids[k]) > best_area) {
+            best = k;
+            best_area = half_area(kids[k]);
+          }
+        }
+        if (best < 0) break;
+        const int c = kids[best];
+        kids[best] = c + 1;
+        kids.insert(kids.begin() + best + 1, bin[c].first);
+      }
+    }
+    Node4 fill;
+    for (int j = 0; j < 4; ++j) {
+      for (int k = 0; k < 3; ++k) {
+        fill.lo[k][j] = fill.olo[k][j] = INFINITY;
+        fill.hi[k][j] = fill.ohi[k][j] = -INFINITY;
+      }
+      for (int k = 0; k < 9; ++k) fill.rot[k][j] = 0.0f;
+      fill.child[j] = -1;
+      fill.count[j] = -1;
+    }
+    for (int j = 0; j < static_cast<int>(kids.size()); ++j) {
+      const Node& c = bin[kids[j]];
+      for (int k = 0; k < 3; ++k) {
+        fill.lo[k][j] = RoundDown(c.lo[k] - origin[k]);
+        fill.hi[k][j] = RoundUp(c.hi[k] - origin[k]);
+      }
+      FitOrientedBox(range_begin[kids[j]], range_end[kids[j]], &fill, j);
+      if (c.count > 0) {
+        fill.child[j] = c.first;
+        fill.count[j] = c.count;
+      } else {
+        fill.count[j] = 0;
+        fill.child[j] = static_cast<int>(nodes.size());
+        nodes.emplace_back();
+        todo.push_back({kids[j], fill.child[j], pd.depth + 1});
+        max_depth = std::max(max_depth, pd.depth + 1);
+      }
+    }
+    nodes[pd.node4] = fill;
+  }
 }
 
-void TriangleBvh::Impl::FitOrientedBox(int begin, int end, Node* nd) const {
+void TriangleBvh::Impl::FitOrientedBox(int begin, int end, Node4* nd, int j) const {
   Vec3 nsum = Vec3::Zero(), c = Vec3::Zero();
   for (int t = begin; t < end; ++t) {
     const Tri& tr = tris[t];
@@ -418,8 +518,8 @@ void TriangleBvh::Impl::FitOrientedBox(int begin, int end, Node* nd) const {
   }
   Vec3 n;
   if (nsum.norm() > 0.0) {
-    n = nsum.normalized();
-  } else {  // closed or degenerate patch: direction of least spread
+    n = nsum.normalized();  // mean normal: thin extent for a gently curved patch
+  } else {                  // closed or degenerate patch: direction of least spread
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
     n = es.eigenvectors().col(0);
   }
@@ -430,90 +530,106 @@ void TriangleBvh::Impl::FitOrientedBox(int begin, int end, Node* nd) const {
   t1 -= n * n.dot(t1);
   if (!(t1.norm() > 1e-6)) t1 = n.unitOrthogonal();
   t1.normalize();
-  const Vec3 t2 = n.cross(t1);
-  const Vec3 axes[3] = {n, t1, t2};
+  const Vec3 axes[3] = {n, t1, n.cross(t1)};
   for (int k = 0; k < 3; ++k) {
-    for (int j = 0; j < 3; ++j) nd->rot[3 * k + j] = axes[k][j];
+    // The frame is stored in float; extents are exact (in double) for the
+    // float frame, then rounded outward.
+    float r[3];
+    for (int i = 0; i < 3; ++i) r[i] = nd->rot[3 * k + i][j] = static_cast<float>(axes[k][i]);
     double lo = INFINITY, hi = -INFINITY;
     for (int t = begin; t < end; ++t) {
       const Tri& tr = tris[t];
       for (const double* v : {tr.a, tr.b, tr.c}) {
-        // Same expression (and rounding) as in NodeSqDist.
-        const double r = nd->rot[3 * k] * v[0] + nd->rot[3 * k + 1] * v[1] + nd->rot[3 * k + 2] * v[2];
-        lo = std::min(lo, r);
-        hi = std::max(hi, r);
+        const double d = double(r[0]) * (v[0] - origin[0]) + double(r[1]) * (v[1] - origin[1]) +
+                         double(r[2]) * (v[2] - origin[2]);
+        lo = std::min(lo, d);
+        hi = std::max(hi, d);
       }
     }
-    nd->olo[k] = lo;
-    nd->ohi[k] = hi;
+    nd->olo[k][j] = RoundDown(lo);
+    nd->ohi[k][j] = RoundUp(hi);
   }
 }
 
-TriangleBvh::Hit TriangleBvh::Impl::Query(const double* q, double max_sq) const {
-  TriangleBvh::Hit hit;
-  if (nodes.empty() || tris.empty()) return hit;
-  double best = max_sq;
-  int best_face = -1;
-  double best_pt[3] = {0, 0, 0};
+TriangleBvh::Hit TriangleBvh::Impl::Query(const double* q, double max_sq, int* tri) const {
   struct Entry {
-    int node;
-    double d;
+    std::int32_t child, count;
+    double lb;
   };
-  Entry stack[96];
+  // A 4-wide node pushes at most 3 entries per level.
+  const int need = 3 * max_depth + 4;
+  if (need <= 192) {
+    Entry stack[192];
+    return QueryWith(q, max_sq, stack, tri);
+  }
+  std::vector<Entry> stack(need);
+  return QueryWith(q, max_sq, stack.data(), tri);
+}
+
+template <class Entry>
+TriangleBvh::Hit TriangleBvh::Impl::QueryWith(const double* q, double max_sq, Entry* stack,
+                                               int* tri) const {
+  TriangleBvh::Hit hit;
+  if (tri) *tri = -1;
+  if (nodes.empty()) return hit;
+  double best = max_sq;
+  int best_face = -1, best_tri = -1;
+  double best_pt[3] = {0, 0, 0};
+  const double qr[3] = {q[0] - origin[0], q[1] - origin[1], q[2] - origin[2]};
+  const float qf[3] = {static_cast<float>(qr[0]), static_cast<float>(qr[1]), static_cast<float>(qr[2])};
+  // Rounding allowance of the float bounds (absolute): q to float, rot * q
+  // and the subtractions, all within a few float ulps of |q| + |mesh|.
+  const double qnorm = std::abs(qr[0]) + std::abs(qr[1]) + std::abs(qr[2]);
+  // Beyond float range (or NaN) the bounds degrade to 0: every node is opened.
+  const float margin = qnorm < 1e30 ? static_cast<float>(1e-6 * (qnorm + coord_scale)) : INFINITY;
   int sp = 0;
-  int cur = 0;
-  const double eps = 1e-15 * (std::abs(q[0]) + std::abs(q[1]) + std::abs(q[2]) + coord_scale);
-  if (NodeSqDist(nodes[0], q, eps) > best * kPruneSlack) return hit;
-  for (;;) {
-    const Node& n = nodes[cur];
-    if (n.count > 0) {
-      for (int i = n.first, e = n.first + n.count; i < e; ++i) {
+  stack[sp++] = {0, 0, 0.0};
+  while (sp > 0) {
+    const Entry e = stack[--sp];
+    if (e.lb > best * kPruneSlack) continue;
+    if (e.count > 0) {
+      for (int i = e.child, end = e.child + e.count; i < end; ++i) {
         double p[3];
-#ifdef ARCS_BVH_STATS
-        ++g_stat_tris;
-#endif
-        const double d = degenerate[i] ? DegenerateClosest(tris[i], q, p) : TriClosest(tris[i], q, p);
+        const double d = TriSqDist(i, q, p);
         if (d < best || (d == best && (best_face < 0 || face[i] < best_face))) {
           best = d;
           best_face = face[i];
+          best_tri = i;
           best_pt[0] = p[0], best_pt[1] = p[1], best_pt[2] = p[2];
         }
       }
-    } else {
-      int l = cur + 1, r = n.first;
-      double dl = NodeSqDist(nodes[l], q, eps), dr = NodeSqDist(nodes[r], q, eps);
-#ifdef ARCS_BVH_STATS
-      g_stat_nodes += 2;
-#endif
-      if (dr < dl) std::swap(l, r), std::swap(dl, dr);
-      const double lim = best * kPruneSlack;
-      if (dl <= lim) {
-        if (dr <= lim) stack[sp++] = {r, dr};
-        cur = l;
-        continue;
-      }
+      continue;
     }
-    // Pop the next node still within reach.
-    bool found = false;
-    while (sp > 0) {
-      const Entry e = stack[--sp];
-      if (e.d <= best * kPruneSlack) {
-        cur = e.node;
-        found = true;
-        break;
+    const Node4& n = nodes[e.child];
+    alignas(16) float lb[4];
+    ChildLowerBounds(n, qf, margin, lb);
+    // Children within reach, sorted nearest first (pushed farthest first).
+    const double lim = best * kPruneSlack;
+    Entry kids[4];
+    int nk = 0;
+    for (int j = 0; j < 4; ++j) {
+      if (n.count[j] < 0 || static_cast<double>(lb[j]) > lim) continue;
+      Entry k{n.child[j], n.count[j], static_cast<double>(lb[j])};
+      int pos = nk++;
+      while (pos > 0 && kids[pos - 1].lb < k.lb) {
+        kids[pos] = kids[pos - 1];
+        --pos;
       }
+      kids[pos] = k;
     }
-    if (!found) break;
+    for (int j = 0; j < nk; ++j) stack[sp++] = kids[j];
   }
   if (best_face >= 0) {
     hit.sq_dist = best;
     hit.face = best_face;
     hit.point = Vec3(best_pt[0], best_pt[1], best_pt[2]);
+    if (tri) *tri = best_tri;
   }
   return hit;
 }
 
 TriangleBvh::TriangleBvh(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
+  CheckMeshIndices(mesh, "TriangleBvh", /*finite=*/true);
   impl_->mesh = mesh;
   impl_->Build();
 }
@@ -534,25 +650,29 @@ void TriangleBvh::ClosestPoints(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d
   if (sq_dist) sq_dist->resize(n);
   if (points) points->resize(n, 3);
   if (faces) faces->resize(n);
+  // Morton order makes consecutive queries neighbours whatever the input
+  // order (3.4x faster on random points, 10% on grid order).
+  const std::vector<int> order = MortonOrder(Q);
   ParallelFor(
       n,
       [&](std::int64_t begin, std::int64_t end) {
-        // Warm start: d(q) <= d(q_prev) + |q - q_prev| (1-Lipschitz), slightly
-        // inflated against rounding; the answer does not depend on it.
-        double prev_d = -1.0;
-        double prev_q[3] = {0, 0, 0};
-        for (std::int64_t i = begin; i < end; ++i) {
+        // Warm start: the previous query's closest triangle, evaluated at q,
+        // bounds d(q) from above and is usually within a hair of it
+        // (neighbours in Morton order). Inflated slightly against rounding;
+        // the answer does not depend on it.
+        int prev_tri = -1;
+        for (std::int64_t s = begin; s < end; ++s) {
+          const std::int64_t i = order[s];
           const double q[3] = {Q(i, 0), Q(i, 1), Q(i, 2)};
           TriangleBvh::Hit hit;
-          if (prev_d >= 0.0) {
-            const double dx = q[0] - prev_q[0], dy = q[1] - prev_q[1], dz = q[2] - prev_q[2];
-            const double ub = prev_d + std::sqrt(dx * dx + dy * dy + dz * dz);
-            hit = impl_->Query(q, ub * ub * (1.0 + 1e-9) + 1e-300);
+          int tri = -1;
+          if (prev_tri >= 0) {
+            double p[3];
+            const double ub = impl_->TriSqDist(prev_tri, q, p);
+            hit = impl_->Query(q, ub * (1.0 + 1e-9) + 1e-300, &tri);
           }
-          if (hit.face < 0) hit = impl_->Query(q, INFINITY);
-          prev_d = std::sqrt(hit.sq_dist);
-          prev_q[0] = q[0], prev_q[1] = q[1], prev_q[2] = q[2];
-          if (hit.face < 0) prev_d = -1.0;
+          if (hit.face < 0) hit = impl_->Query(q, INFINITY, &tri);
+          prev_tri = tri;
           if (sq_dist) (*sq_dist)[i] = hit.sq_dist;
           if (points) points->row(i) = hit.point.transpose();
           if (faces) (*faces)[i] = hit.face;

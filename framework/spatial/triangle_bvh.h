@@ -18,17 +18,24 @@ class TriangleBvh {
   };
 
   // Builds the hierarchy over `mesh` (the mesh is copied; degenerate faces are
-  // allowed and handled as segments/points).
+  // allowed and handled as segments/points). Throws InputError on a face
+  // index outside [0, #V).
   explicit TriangleBvh(const Mesh& mesh);
   ~TriangleBvh();
   TriangleBvh(TriangleBvh&&) noexcept;
   TriangleBvh& operator=(TriangleBvh&&) noexcept;
 
   // Closest point to q among faces within sqrt(max_sq_dist) (exact, double).
+  // The answer is the minimum of (squared distance, face index): among
+  // equidistant faces the lowest index wins, whatever the search radius.
   Hit Closest(const Vec3& q, double max_sq_dist = std::numeric_limits<double>::infinity()) const;
 
-  // Closest points for every row of Q, in parallel; deterministic. Any of the
-  // outputs may be null. Outputs are resized.
+  // Closest points for every row of Q, in parallel; deterministic (identical
+  // to Closest(q) per row, at any thread count). Any of the outputs may be
+  // null. Outputs are resized. Each query is warm-started from the previous
+  // row's answer, so spatially coherent orders (grid order, x fastest, as in
+  // GridInfo) run fastest: about 0.55 M queries per core-second for the
+  // 101^3 grid around a 70k-face mesh.
   void ClosestPoints(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d* points = nullptr,
                      Eigen::VectorXi* faces = nullptr) const;
 

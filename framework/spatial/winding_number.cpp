@@ -3,6 +3,8 @@
 #include "framework/spatial/winding_number.h"
 
 #include "framework/error.h"
+#include "framework/spatial/knn.h"
+#include "framework/spatial/topology.h"
 #include "framework/util/parallel.h"
 
 #include <Eigen/Geometry>
@@ -10,7 +12,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <numbers>
 #include <vector>
 
@@ -115,6 +116,7 @@ double TriangleSolidAngleOver4Pi(const Vec3& a, const Vec3& b, const Vec3& c, co
 }
 
 double WindingNumberExact(const Mesh& mesh, const Vec3& q) {
+  CheckMeshIndices(mesh, "WindingNumberExact", /*finite=*/true);
   TriSoa t;
   t.Resize(mesh.NumFaces());
   for (int f = 0; f < mesh.NumFaces(); ++f) t.Set(f, mesh, f);
@@ -123,6 +125,7 @@ double WindingNumberExact(const Mesh& mesh, const Vec3& q) {
 }
 
 VectorXd WindingNumbersExact(const Mesh& mesh, const MatrixX3d& Q) {
+  CheckMeshIndices(mesh, "WindingNumbersExact", /*finite=*/true);
   TriSoa t;
   t.Resize(mesh.NumFaces());
   for (int f = 0; f < mesh.NumFaces(); ++f) t.Set(f, mesh, f);
@@ -136,19 +139,23 @@ VectorXd WindingNumbersExact(const Mesh& mesh, const MatrixX3d& Q) {
           w[i] = SumSolidAngles(t, 0, nf, p);
         }
       },
-      std::max<std::int64_t>(1, 200000 / std::max<std::int64_t>(1, Q.rows() > 0 ? nf : 1)));
+      // About 2e5 triangle-query pairs per task.
+      std::max<std::int64_t>(1, 200000 / std::max<std::int64_t>(1, static_cast<std::int64_t>(nf))));
   return w;
 }
 
 // ---------------------------------------------------------------------------
 // Hierarchical winding number.
 //
-// Far field (Barill et al. 2018, eq. 5-6, truncated after the second term):
-// with r = p - q for the cluster centre p, the kernel f(x) = (x - q) / (4 pi
-// |x - q|^3) is expanded about p:
-//   w ~= N . f(p) + H(p) : M,   N = sum_t A_t n_t,   M = sum_t A_t (x_t - p) n_t^T,
-//   H = (I / |r|^3 - 3 r r^T / |r|^5) / (4 pi),
-// x_t the triangle centroid (exact first moment of a linear function).
+// Far field (Barill et al. 2018, sec. 3.2): w(q) = sum_t integral_t n_t . f(x)
+// dA with f(x) = (x - q) / (4 pi |x - q|^3), f expanded about the cluster
+// centre p (area-weighted centroid), r = p - q:
+//   w ~= N . f(p) + grad f(p) : M + 1/2 grad^2 f(p) : C,
+//   N = sum_t A_t n_t,  M = sum_t A_t (x_t - p) n_t^T  (x_t the centroid: exact
+//   first moment), C_ijk = sum_t A_t n_{t,i} <(x-p)_j (x-p)_k>_t (exact second
+//   moments of the triangles).
+// The cluster is accepted when |r| > beta * radius. Measured worst case (the
+// centre of a sphere): max |dw| 5e-3 at beta 2, 1.7e-4 at beta 4.
 
 namespace {
 
@@ -156,7 +163,12 @@ struct FwnNode {
   double centre[3];
   double radius;  // max distance from centre to any corner in the cluster
   double n[3];    // area-weighted normal sum (A_t n_t = cross / 2)
-  double m[9];    // second-order moment, row-major m[3*i+j] = sum A_t (x_t-p)_i n_{t,j}
+  double m[9];    // first moments, row-major m[3*i+j] = sum_t A_t (x_t-p)_i n_{t,j}
+  // Second moments C_ijk = sum_t A_t n_{t,i} <(x-p)_j (x-p)_k>_t (average over
+  // triangle t), stored per i as a symmetric 3x3 (xx, xy, xz, yy, yz, zz), and
+  // the contractions cw_k = sum_i C_iik, cz_i = sum_j C_ijj.
+  double c[18];
+  double cw[3], cz[3];
   std::int32_t first, count;  // leaf: triangle range; inner: count = 0, children first, first+1
 };
 
@@ -166,6 +178,8 @@ constexpr int kFwnLeaf = 8;
 
 void FastWindingNumberOptions::Check() const {
   ARCS_CHECK_OPTION(std::isfinite(beta) && beta >= 1.0, "beta", beta, "a finite number >= 1");
+  ARCS_CHECK_OPTION(expansion_order >= 0 && expansion_order <= 2, "expansion_order", expansion_order,
+                    "0, 1 or 2");
 }
 
 struct FastWindingNumber::Impl {
@@ -178,6 +192,7 @@ struct FastWindingNumber::Impl {
 FastWindingNumber::FastWindingNumber(const Mesh& mesh, const Options& options)
     : impl_(std::make_unique<Impl>()) {
   options.Check();
+  CheckMeshIndices(mesh, "FastWindingNumber", /*finite=*/true);
   impl_->options = options;
   const int nf = mesh.NumFaces();
   std::vector<Vec3> centroid(nf), an(nf);
@@ -267,15 +282,32 @@ FastWindingNumber::FastWindingNumber(const Mesh& mesh, const Options& options)
       p /= (e - b);
     }
     Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d cm[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
     double r2 = 0.0;
     for (int i = b; i < e; ++i) {
       const int f = order[i];
       m += (centroid[f] - p) * an[f].transpose();
-      for (int c = 0; c < 3; ++c) r2 = std::max(r2, (mesh.V.row(mesh.F(f, c)).transpose() - p).squaredNorm());
+      // Second moment of the triangle about p: integral of d d^T over the
+      // triangle = A / 12 (sum_v v v^T + s s^T), v the corners - p, s their sum.
+      Vec3 v[3];
+      for (int c = 0; c < 3; ++c) v[c] = mesh.V.row(mesh.F(f, c)).transpose() - p;
+      const Vec3 sv = v[0] + v[1] + v[2];
+      const Eigen::Matrix3d S =
+          (v[0] * v[0].transpose() + v[1] * v[1].transpose() + v[2] * v[2].transpose() + sv * sv.transpose()) /
+          12.0;
+      for (int c = 0; c < 3; ++c) cm[c] += an[f][c] * S;
+      for (int c = 0; c < 3; ++c) r2 = std::max(r2, v[c].squaredNorm());
     }
     for (int c = 0; c < 3; ++c) nd.centre[c] = p[c], nd.n[c] = nsum[c];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) nd.m[3 * i + j] = m(i, j);
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Matrix3d& S = cm[i];
+      double* ci = nd.c + 6 * i;
+      ci[0] = S(0, 0), ci[1] = S(0, 1), ci[2] = S(0, 2), ci[3] = S(1, 1), ci[4] = S(1, 2), ci[5] = S(2, 2);
+      nd.cz[i] = S.trace();
+    }
+    for (int k = 0; k < 3; ++k) nd.cw[k] = cm[0](0, k) + cm[1](1, k) + cm[2](2, k);
     nd.radius = std::sqrt(r2);
   }
 }
@@ -287,6 +319,7 @@ FastWindingNumber& FastWindingNumber::operator=(FastWindingNumber&&) noexcept = 
 double FastWindingNumber::Impl::Eval(const double* q) const {
   if (nodes.empty()) return 0.0;
   const double beta2 = options.beta * options.beta;
+  const int order = options.expansion_order;
   constexpr double kInv4Pi = 0.25 / std::numbers::pi;
   int stack[128];
   int sp = 0;
@@ -300,13 +333,31 @@ double FastWindingNumber::Impl::Eval(const double* q) const {
       const double inv_d2 = 1.0 / d2;
       const double inv_d3 = std::sqrt(inv_d2) * inv_d2;
       const double r[3] = {rx, ry, rz};
-      // First order: N . r / |r|^3.
+      // Kernel f(x) = (x - q) / |x - q|^3 expanded about the centre p, r = p - q.
+      // Order 0: N . r / |r|^3.
       double w = (nd.n[0] * rx + nd.n[1] * ry + nd.n[2] * rz) * inv_d3;
-      // Second order: trace(M) / |r|^3 - 3 r^T M r / |r|^5.
-      double rmr = 0.0;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) rmr += r[i] * nd.m[3 * i + j] * r[j];
-      w += (nd.m[0] + nd.m[4] + nd.m[8]) * inv_d3 - 3.0 * rmr * inv_d3 * inv_d2;
+      if (order >= 1) {
+        // Order 1: grad f : M = trace(M) / |r|^3 - 3 r^T M r / |r|^5.
+        double rmr = 0.0;
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) rmr += r[i] * nd.m[3 * i + j] * r[j];
+        w += (nd.m[0] + nd.m[4] + nd.m[8]) * inv_d3 - 3.0 * rmr * inv_d3 * inv_d2;
+      }
+      if (order >= 2) {
+        // Order 2: 1/2 d2f : C with d_j d_k f_i = -3 (delta_ij r_k + delta_ik r_j +
+        // delta_jk r_i) / |r|^5 + 15 r_i r_j r_k / |r|^7.
+        const double v1 = nd.cw[0] * rx + nd.cw[1] * ry + nd.cw[2] * rz;
+        const double v2 = nd.cz[0] * rx + nd.cz[1] * ry + nd.cz[2] * rz;
+        double v3 = 0.0;
+        for (int i = 0; i < 3; ++i) {
+          const double* S = nd.c + 6 * i;
+          const double rsr = S[0] * rx * rx + S[3] * ry * ry + S[5] * rz * rz +
+                             2.0 * (S[1] * rx * ry + S[2] * rx * rz + S[4] * ry * rz);
+          v3 += r[i] * rsr;
+        }
+        const double inv_d5 = inv_d3 * inv_d2;
+        w += 0.5 * (-3.0 * inv_d5 * (2.0 * v1 + v2) + 15.0 * inv_d5 * inv_d2 * v3);
+      }
       far += w * kInv4Pi;
     } else if (nd.count > 0) {
       near += SumSolidAngles(tris, nd.first, nd.first + nd.count, q);
@@ -325,10 +376,13 @@ double FastWindingNumber::Eval(const Vec3& q) const {
 
 VectorXd FastWindingNumber::Eval(const MatrixX3d& Q) const {
   VectorXd w(Q.rows());
+  // Morton order: neighbouring queries open the same clusters (cache reuse).
+  const std::vector<int> order = MortonOrder(Q);
   ParallelFor(
       Q.rows(),
       [&](std::int64_t begin, std::int64_t end) {
-        for (std::int64_t i = begin; i < end; ++i) {
+        for (std::int64_t s = begin; s < end; ++s) {
+          const std::int64_t i = order[s];
           const double p[3] = {Q(i, 0), Q(i, 1), Q(i, 2)};
           w[i] = impl_->Eval(p);
         }

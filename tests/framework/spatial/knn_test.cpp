@@ -124,6 +124,27 @@ TEST(KdTree3, DeterministicAcrossThreadsAndClustered) {
   for (int i = 0; i < 200; ++i) EXPECT_EQ(a[i], BruteSorted(P, Q.row(i))[0].second);
 }
 
+TEST(MortonOrder, PermutationWithZOrderBlocks) {
+  // 4x4x4 grid, x fastest: the Z-curve visits the 2x2x2 corner block first.
+  MatrixX3d P(64, 3);
+  for (int k = 0, r = 0; k < 4; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) P.row(r++) << i, j, k;
+  const std::vector<int> order = MortonOrder(P);
+  std::vector<int> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int i = 0; i < 64; ++i) ASSERT_EQ(sorted[i], i);
+  EXPECT_EQ(order[0], 0);
+  EXPECT_EQ(order[1], 1);   // (1,0,0)
+  EXPECT_EQ(order[2], 4);   // (0,1,0)
+  EXPECT_EQ(order[7], 21);  // (1,1,1)
+  for (int s = 0; s < 8; ++s) EXPECT_LE(P.row(order[s]).maxCoeff(), 1.0);
+  // Duplicates keep index order; empty input.
+  MatrixX3d D = MatrixX3d::Zero(5, 3);
+  EXPECT_EQ(MortonOrder(D), (std::vector<int>{0, 1, 2, 3, 4}));
+  EXPECT_TRUE(MortonOrder(MatrixX3d(0, 3)).empty());
+}
+
 TEST(KdTree3, EmptyTree) {
   const KdTree3 tree(MatrixX3d(0, 3));
   EXPECT_EQ(tree.Size(), 0);

@@ -1,5 +1,6 @@
 #include "framework/spatial/topology.h"
 
+#include "framework/error.h"
 #include "tests/framework/spatial/spatial_test_meshes.h"
 #include "tests/test_util.h"
 
@@ -150,6 +151,17 @@ TEST(Topology, DegenerateFaces) {
   m.F.row(n + 1) << 0, 1, static_cast<int>(m.V.rows()) - 1;  // collinear, zero area
   EXPECT_EQ(ComputeTopology(m).degenerate_faces, 2);
   EXPECT_EQ(ComputeTopology(Icosphere(1)).degenerate_faces, 0);
+}
+
+TEST(Topology, RejectsBadIndices) {
+  Mesh m = Icosphere(1);
+  m.F(0, 2) = -1;
+  EXPECT_THROW(ComputeTopology(m), InputError);
+  try {
+    ComputeTopology(m);
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("face 0 has vertex index -1"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Topology, EmptyMesh) {

@@ -1,8 +1,10 @@
 #include "framework/spatial/triangle_bvh.h"
 
+#include "framework/error.h"
 #include "framework/util/parallel.h"
 #include "framework/util/rng.h"
 #include "tests/framework/spatial/spatial_test_meshes.h"
+#include "tests/test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -64,12 +66,14 @@ void CheckAgainstBruteForce(const Mesh& m, const MatrixX3d& Q) {
   for (int i = 0; i < Q.rows(); ++i) {
     const Vec3 q = Q.row(i);
     const double ref = BruteSq(m, q);
-    ASSERT_NEAR(d2[i], ref, 1e-12 * ref + 1e-300) << "query " << i;
+    // Relative 1e-12, or rounding-level when q lies on the surface.
+    const double tol = 1e-12 * ref + 1e-28 * (1.0 + q.squaredNorm());
+    ASSERT_NEAR(d2[i], ref, tol) << "query " << i;
     ASSERT_GE(F[i], 0);
     const Vec3 p = P.row(i);
-    EXPECT_NEAR((p - q).squaredNorm(), d2[i], 1e-12 * ref + 1e-300);
+    EXPECT_NEAR((p - q).squaredNorm(), d2[i], tol);
     const double on_face = RefTriSq(m.V.row(m.F(F[i], 0)), m.V.row(m.F(F[i], 1)), m.V.row(m.F(F[i], 2)), p);
-    EXPECT_LE(on_face, 1e-24);
+    EXPECT_LE(on_face, 1e-24 * (1.0 + p.squaredNorm()));
     const TriangleBvh::Hit hit = bvh.Closest(q);
     EXPECT_EQ(hit.sq_dist, d2[i]);
     EXPECT_EQ(hit.face, F[i]);
@@ -162,6 +166,73 @@ TEST(TriangleBvh, SameResultAtOneAndTwoThreads) {
   }
   EXPECT_EQ(d1, d2);
   EXPECT_EQ(f1, f2);
+}
+
+TEST(TriangleBvh, FarFromOriginAndTinyScale) {
+  // Float bounds are relative to the mesh's centre: a small mesh far from the
+  // origin, or a very small one, must still give exact answers.
+  for (const auto& [offset, scale] : {std::pair{Vec3(1e5, -2e5, 3e5), 1.0}, std::pair{Vec3(0.3, 0, 0), 1e-6}}) {
+    Mesh m = Torus(1.0, 0.3, 32, 16);
+    m.V *= scale;
+    m.V.rowwise() += offset.transpose();
+    MatrixX3d Q = RandomPoints(400, -1.6 * scale, 1.6 * scale, 8);
+    Q.rowwise() += offset.transpose();
+    CheckAgainstBruteForce(m, Q);
+  }
+}
+
+TEST(TriangleBvh, CoincidentTrianglesAndPointsOnTheSurface) {
+  // 200 copies of one triangle (all centroids equal: the build must split by
+  // count) plus a sphere; queries exactly on vertices and face centroids.
+  Mesh s = Icosphere(2);
+  Mesh m;
+  m.V.resize(s.NumVertices() + 3, 3);
+  m.V << s.V, Eigen::RowVector3d(2, 0, 0), Eigen::RowVector3d(2, 1, 0), Eigen::RowVector3d(2, 0, 1);
+  m.F.resize(s.NumFaces() + 200, 3);
+  m.F.topRows(s.NumFaces()) = s.F;
+  for (int i = 0; i < 200; ++i) m.F.row(s.NumFaces() + i) << s.NumVertices(), s.NumVertices() + 1, s.NumVertices() + 2;
+  MatrixX3d Q(60, 3);
+  for (int i = 0; i < 30; ++i) Q.row(i) = m.V.row(5 * i);
+  for (int i = 30; i < 60; ++i) {
+    const int f = 7 * i;
+    Q.row(i) = (m.V.row(m.F(f, 0)) + m.V.row(m.F(f, 1)) + m.V.row(m.F(f, 2))) / 3.0;
+  }
+  CheckAgainstBruteForce(m, Q);
+  const TriangleBvh bvh(m);
+  // Ties: the copies are equidistant, the lowest face index wins.
+  const TriangleBvh::Hit hit = bvh.Closest(Vec3(2.2, 0.2, 0.2));
+  EXPECT_EQ(hit.face, s.NumFaces());
+  for (int i = 0; i < 30; ++i) EXPECT_EQ(bvh.Closest(Q.row(i)).sq_dist, 0.0);
+}
+
+TEST(TriangleBvh, HugeAndNanQueries) {
+  const Mesh m = Icosphere(1);
+  const TriangleBvh bvh(m);
+  const TriangleBvh::Hit far = bvh.Closest(Vec3(1e40, 0, 0));
+  EXPECT_GE(far.face, 0);
+  EXPECT_NEAR(std::sqrt(far.sq_dist), 1e40, 1e26);
+  const TriangleBvh::Hit nan = bvh.Closest(Vec3(NAN, 0, 0));
+  EXPECT_EQ(nan.face, -1);
+}
+
+TEST(TriangleBvh, TinyMeshesMatchBruteForce) {
+  ARCS_REQUIRE_SHARED_DATA();
+  for (const char* name : {"spot.obj", "eight.obj"}) {
+    SCOPED_TRACE(name);
+    Mesh m = spatial_test::ReadObjVF(testing::SharedData(std::string("tiny/") + name));
+    spatial_test::NormalizeUnitBox(&m);
+    CheckAgainstBruteForce(m, RandomPoints(600, -1.0, 1.0, 9));
+    CheckAgainstBruteForce(m, spatial_test::GridPoints(9, -1.0, 1.0));
+  }
+}
+
+TEST(TriangleBvh, RejectsBadIndicesAndNonFiniteVertices) {
+  Mesh m = Icosphere(1);
+  m.F(3, 1) = m.NumVertices();
+  EXPECT_THROW(TriangleBvh{m}, InputError);
+  m = Icosphere(1);
+  m.V(m.F(2, 0), 1) = NAN;
+  EXPECT_THROW(TriangleBvh{m}, InputError);
 }
 
 TEST(TriangleBvh, EmptyMesh) {
