@@ -9,10 +9,11 @@
 #   libnanoflann-dev           kd-tree k-nearest neighbours (header-only; measured in bench/)
 #   libgtest-dev               the test suite
 #   libcgal-dev libembree-dev  only for bench/spatial_bench (closest-point comparison)
+#   libpcl-dev                 screened Poisson reconstruction (pcl::Poisson; optional, ARCS_WITH_PCL)
 set -euo pipefail
 
 PACKAGES=(cmake g++ make pkg-config ccache libeigen3-dev libyaml-cpp-dev libtbb-dev libnanoflann-dev
-          libgtest-dev libcgal-dev libembree-dev libboost-dev)
+          libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

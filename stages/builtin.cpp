@@ -11,6 +11,15 @@ void RegisterBuiltinStages(Registry& r) {
   RegisterSdfClamp(r);
   // SDF -> mesh baselines.
   RegisterMarchingCubes(r);
+  // RFTA empty-space samplers and arc projector.
+  RegisterRasterize(r);
+  RegisterRejection(r);
+  RegisterMetropolisHastings(r);
+  RegisterArcProjector(r);
+  RegisterFineTune(r);
+  RegisterRfta(r);
+  // Surface reconstructors (oriented points -> mesh).
+  RegisterScreenedPoisson(r);
   // Evaluators.
   RegisterEvalStages(r);
 }

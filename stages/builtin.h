@@ -17,5 +17,15 @@ void RegisterSdfNoise(Registry& r);
 void RegisterSdfClamp(Registry& r);
 void RegisterMarchingCubes(Registry& r);
 void RegisterEvalStages(Registry& r);
+// Surface reconstructors (oriented points -> mesh; stages/reconstruct/).
+void RegisterScreenedPoisson(Registry& r);
+// RFTA: empty-space samplers and the arc projector (stages/rfta/).
+void RegisterRasterize(Registry& r);
+void RegisterRejection(Registry& r);
+void RegisterMetropolisHastings(Registry& r);
+void RegisterArcProjector(Registry& r);
+// RFTA: fine-tuning and the whole method as one stage (stages/rfta/).
+void RegisterFineTune(Registry& r);
+void RegisterRfta(Registry& r);
 
 }  // namespace arcs

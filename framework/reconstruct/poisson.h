@@ -1,0 +1,108 @@
+// Screened Poisson surface reconstruction (Kazhdan & Hoppe 2013) from oriented
+// points: the surface reconstructor that Reach for the Arcs runs on its
+// tangency point cloud (RFTA §3: "We choose screened Poisson Surface
+// Reconstruction (sPSR) [Kazhdan and Hoppe 2013]").
+//
+// The back-end is PCL's pcl::Poisson (a port of PoissonRecon ~v5: adaptive
+// octree, B-spline basis, multigrid, screening by interpolation of the
+// points' values). It lives in its own translation unit (poisson_pcl.cpp);
+// this header exposes no PCL types. When arcs is built without PCL
+// (ARCS_WITH_PCL=OFF), ReconstructPoisson throws arcs::Error.
+//
+// Differences from the official RFTA call (PoissonRecon 16.01, see
+// ../shared/notes/rfta_official_facts.md §2): PCL has no choice of boundary
+// condition (no Neumann option), normalises the screening weight by the point
+// count rather than the sample density, and maps the points' bounding cube,
+// enlarged by `scale`, onto the octree's root (RFTA pads the cloud to fill
+// about 1/3.2 of the cube and uses depth 10, i.e. ~320 cells across the
+// object; with scale 1.1 the same resolution is depth ~8.2).
+#pragma once
+
+#include "framework/context.h"
+#include "framework/types.h"
+
+namespace arcs {
+
+struct PoissonOptions {
+  // Maximum octree depth; the finest cells are (scale * bbox extent) / 2^depth.
+  // 0 = automatic (AutoPoissonDepth), from the point spacing. Explicit: 2..12.
+  // Deeper than the spacing supports buys nothing: the octree stops refining
+  // where a cell holds fewer than `samples_per_node` points.
+  int depth = 0;
+  // Depth up to which the octree is complete (PoissonRecon's "fullDepth";
+  // PCL default 5). Clamped to `depth` when larger. Range 0..12.
+  int min_depth = 5;
+  // Screening weight of the point-value term (RFTA passes 10; PCL default 4).
+  // 0 gives the unscreened 2006 method. Range [0, 1e6]. On exact samples of a
+  // sphere/torus (20k points, depth 8) 10 is 10-25 % more accurate than 4
+  // and ~2x more than 0.
+  double point_weight = 10.0;
+  // Minimum number of samples per octree leaf: the octree stops refining
+  // where the points are sparser (RFTA/PoissonRecon 1.5; 1 is ~25 % more
+  // accurate on exact samples, 15-20 suits noisy ones). Range [0.5, 100].
+  double samples_per_node = 1.5;
+  // Ratio of the reconstruction cube's side to the points' bounding-box
+  // extent (PoissonRecon default 1.1). Range [1.01, 16].
+  double scale = 1.1;
+  // Triangulate marching-cubes polygons with more than three corners by
+  // adding their barycentre (manifold output) rather than splitting them.
+  bool manifold = true;
+  // OpenMP threads of PCL's solver and iso-surface extraction. Default 1,
+  // the only deterministic setting: with 2 threads PCL returns a slightly
+  // different mesh (other vertex count). It was also no faster on the shared
+  // 2-core machine, and libgomp's spin-waiting there costs 3x the CPU time
+  // unless OMP_WAIT_POLICY=PASSIVE is in the environment when the program
+  // starts (libgomp reads it once, at load time). Range 1..256.
+  int threads = 1;
+
+  static constexpr int kMinAutoDepth = 6;
+  static constexpr int kMaxAutoDepth = 10;
+
+  // Throws OptionError naming the field and its allowed range.
+  void Check() const;
+};
+
+// The depth the automatic rule picks for `points` with `options.scale`:
+//   depth = round(log2(scale * extent / h)) + 1, clamped to [6, 10],
+// where extent is the largest side of the bounding box and h = 2 * (median
+// distance to the nearest other point over an evenly strided subsample of at
+// most 4096 points); for area-uniform samples h ~ 0.94 sqrt(area / n). So
+// the finest cells are about half the point spacing: measured on exact
+// sphere/torus samples, one level less loses accuracy and one more only
+// costs time (5k points -> 7, 20k -> 8, 100k -> 9). Deterministic. Throws
+// Error on the same bad inputs as ReconstructPoisson.
+int AutoPoissonDepth(const PointCloud& oriented, const PoissonOptions& options);
+
+// Reconstructs a triangle mesh in the points' own coordinates from points
+// `oriented.P` and normals `oriented.N` (any non-zero length; normalised).
+//
+// Output: for points that enclose a volume, a closed, manifold mesh wound
+// outward (positive volume; PCL's winding follows the normals, so a closed
+// result from inward normals is flipped). Vertices are merged where PCL
+// emits two at one position, faces this collapses are dropped, and the rare
+// small cracks of PCL's adaptive marching cubes (boundary loops of <= 12
+// edges) are closed with fans. Points that do not enclose a volume (an open
+// patch, inconsistent normals, very few points) give an open mesh, reported
+// through ctx.Warn; PCL's orientation is kept then. The vertex and face order
+// is canonical (sorted), so equal PCL output gives bit-identical meshes.
+//
+// Throws Error, before PCL sees the data (it crashes or silently drops
+// points on some of it), when: there are fewer than 10 points, normals are
+// missing, a coordinate or normal is not finite, a normal is zero, or all
+// points coincide. Throws Error when PCL produces no surface (e.g. depth 2
+// on few points) or throws, and Error("screened Poisson needs PCL: install
+// libpcl-dev") when arcs was built without PCL.
+//
+// Caveats of the back-end: calls are serialised process-wide (PCL's octree
+// uses a global node allocator); a call cannot be cancelled midway (ctx's
+// stop flag is checked before and after); and PCL's PoissonRecon port
+// prints rare diagnostics ("[WARNING] Initial residual too low", "Vertex pair
+// not in list") straight to stderr/stdout, which arcs cannot reroute without
+// hijacking the process's file descriptors.
+Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& options,
+                        const Context& ctx);
+
+// True when arcs was built with the PCL back-end.
+bool PoissonAvailable();
+
+}  // namespace arcs

@@ -1,0 +1,303 @@
+#include "framework/rfta/fine_tune.h"
+
+#include "framework/error.h"
+#include "framework/rfta/sphere_set.h"
+#include "framework/rfta/sphere_tree.h"
+#include "framework/spatial/triangle_bvh.h"
+#include "framework/spatial/winding_number.h"
+#include "framework/util/parallel.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace arcs {
+
+void FineTuneOptions::Check() const {
+  ARCS_CHECK_OPTION(iterations >= 0, "fine_tune.iterations", iterations, ">= 0");
+  ARCS_CHECK_OPTION(max_points_per_sphere >= 1, "fine_tune.max_points_per_sphere", max_points_per_sphere, ">= 1");
+  ARCS_CHECK_OPTION(batch_size >= 0, "fine_tune.batch_size", batch_size, ">= 0 (0 = all spheres)");
+  ARCS_CHECK_OPTION(tau > 0 && tau < 1, "fine_tune.tau", tau, "in (0, 1)");
+  ARCS_CHECK_OPTION(halvings >= 0 && halvings <= 60, "fine_tune.halvings", halvings, "in [0, 60]");
+  ARCS_CHECK_OPTION(severe_ratio > 0 && severe_ratio <= 1, "fine_tune.severe_ratio", severe_ratio, "in (0, 1]");
+  ARCS_CHECK_OPTION(local_search_iters >= 0, "fine_tune.local_search_iters", local_search_iters, ">= 0");
+  ARCS_CHECK_OPTION(local_searches >= 0, "fine_tune.local_searches", local_searches, ">= 0 (0 = heuristic)");
+  ARCS_CHECK_OPTION(tol >= 0 && tol < 0.1, "fine_tune.tol", tol, "in [0, 0.1)");
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// All spheres of both signs in one list (unit frame).
+struct AllSpheres {
+  MatrixX3d centers;
+  VectorXd radii;
+  std::vector<int> sample;     // SDF sample of each sphere
+  std::vector<signed char> sign;
+  std::vector<char> wants_point;
+  int Size() const { return static_cast<int>(radii.size()); }
+};
+
+AllSpheres Combine(const SignedSpheres& s) {
+  AllSpheres a;
+  const int np = s.positive.Size(), nn = s.negative.Size();
+  a.centers.resize(np + nn, 3);
+  a.radii.resize(np + nn);
+  for (int k = 0; k < 2; ++k) {
+    const SphereSet& set = k == 0 ? s.positive : s.negative;
+    const int off = k == 0 ? 0 : np;
+    if (set.Size()) {
+      a.centers.middleRows(off, set.Size()) = set.centers;
+      a.radii.segment(off, set.Size()) = set.radii;
+    }
+    for (int i = 0; i < set.Size(); ++i) {
+      a.sample.push_back(set.sample[i]);
+      a.sign.push_back(k == 0 ? 1 : -1);
+      a.wants_point.push_back(set.wants_point.empty() ? 1 : set.wants_point[i]);
+    }
+  }
+  return a;
+}
+
+// Rotates p (on the sphere (c, r)) towards q along the great circle by at most
+// `step` arc length, halving the step until the point is feasible (no batch
+// sphere contains it by more than tol). Returns p itself when no step is
+// feasible (p is the last known feasible point, paper §4.2; the official code
+// returns q here).
+Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double step, int halvings,
+               const SphereTree& tree, double tol, int self) {
+  const Vec3 u = (p - c) / r, v = (q - c) / r;
+  const double cosang = std::clamp(u.dot(v), -1.0, 1.0);
+  const double full = std::acos(cosang);
+  if (full < 1e-15) return q;
+  Vec3 axis = u.cross(v);
+  if (axis.norm() < 1e-14) {  // antipodal: any perpendicular axis
+    axis = u.unitOrthogonal();
+  }
+  axis.normalize();
+  double theta = std::min(step / r, full);
+  for (int h = 0; h <= halvings; ++h) {
+    const Vec3 x = c + r * Eigen::AngleAxisd(theta, axis).toRotationMatrix() * u;
+    if (!tree.AnyContains(x, -tol, self)) return x;
+    theta *= 0.5;
+  }
+  return p;
+}
+
+}  // namespace
+
+FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
+                        const PointsToMesh& reconstruct, const FineTuneOptions& options, const Context& ctx) {
+  options.Check();
+  CheckRftaSamples(samples, "fine_tune");
+  if (static_cast<int>(initial_sample.size()) != initial.Size())
+    throw Error("fine_tune: " + std::to_string(initial.Size()) + " points but " +
+                std::to_string(initial_sample.size()) + " sample indices");
+  SignSplitOptions so;
+  so.zero_radius = options.zero_radius;
+  const SignedSpheres split = SplitSpheresBySign(samples, so);
+  RequireBothSigns(split, "fine_tune");
+  const UnitFrame& frame = split.frame;
+  const AllSpheres all = Combine(split);
+  const int ns = all.Size();
+  std::vector<int> sphere_of_sample(samples.Size(), -1);
+  for (int g = 0; g < ns; ++g) sphere_of_sample[all.sample[g]] = g;
+
+  MakeFeasibleOptions mf;
+  mf.dim = samples.dim;
+  mf.iterations = options.local_search_iters;
+  mf.k_search = options.local_searches > 0 ? options.local_searches : LocalSearchHeuristic(split.num_samples, samples.dim);
+  mf.tol = options.tol;
+  mf.pair_choice = options.pair_choice;
+
+  // Current tangency points per sphere (unit frame).
+  std::vector<std::vector<Vec3>> pts(ns);
+  for (int j = 0; j < initial.Size(); ++j) {
+    const int smp = initial_sample[j];
+    if (smp < 0 || smp >= static_cast<int>(samples.Size()) || sphere_of_sample[smp] < 0)
+      throw Error("fine_tune: point " + std::to_string(j) + " refers to sample " + std::to_string(smp) +
+                  ", which has no sphere");
+    pts[sphere_of_sample[smp]].push_back(frame.ToUnit(initial.P.row(j).transpose()));
+  }
+
+  auto to_cloud = [&](FineTuneResult* out) {
+    std::int64_t n = 0;
+    for (const auto& v : pts) n += static_cast<std::int64_t>(v.size());
+    out->points.P.resize(n, 3);
+    out->points.N.resize(n, 3);
+    out->sample.resize(n);
+    std::int64_t k = 0;
+    for (int g = 0; g < ns; ++g) {
+      const Vec3 c = all.centers.row(g).transpose();
+      for (const Vec3& x : pts[g]) {
+        Vec3 nrm = all.sign[g] * (c - x);  // eq. (2): outward normal
+        const double len = nrm.norm();
+        nrm = len > 0 ? Vec3(nrm / len) : Vec3(1, 0, 0);
+        out->points.P.row(k) = frame.FromUnit(x).transpose();
+        out->points.N.row(k) = nrm.transpose();
+        out->sample[k] = all.sample[g];
+        ++k;
+      }
+    }
+  };
+
+  FineTuneResult result;
+  Rng rng = ctx.MakeRng("fine_tune.batch");
+  for (int it = 0; it < options.iterations; ++it) {
+    ctx.CheckStop();
+    FineTuneIteration stats;
+    // 1. Reconstruct from the current points.
+    auto t0 = Clock::now();
+    FineTuneResult current;
+    to_cloud(&current);
+    Mesh omega;
+    try {
+      omega = reconstruct(current.points);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception& e) {
+      result.stopped_early = true;
+      result.stop_reason = std::string("reconstruction failed at iteration ") + std::to_string(it + 1) + ": " + e.what();
+      ctx.Warn("fine_tune: " + result.stop_reason + "; keeping the points of the previous iteration");
+      break;
+    }
+    if (omega.Empty()) {
+      result.stopped_early = true;
+      result.stop_reason = "empty reconstruction at iteration " + std::to_string(it + 1);
+      ctx.Warn("fine_tune: " + result.stop_reason + "; keeping the points of the previous iteration");
+      break;
+    }
+    stats.reconstruct_s = Since(t0);
+    // Into the unit frame.
+    for (int v = 0; v < omega.NumVertices(); ++v)
+      omega.V.row(v) = frame.ToUnit(omega.V.row(v).transpose()).transpose();
+
+    // 2. Closest points and inside/outside of every sphere centre.
+    t0 = Clock::now();
+    const TriangleBvh bvh(omega);
+    VectorXd sqd;
+    MatrixX3d cp;
+    bvh.ClosestPoints(all.centers, &sqd, &cp);
+    const VectorXd w = FastWindingNumber(omega).Eval(all.centers);
+    stats.query_s = Since(t0);
+
+    // 3. The constraint batch (both signs), drawn without replacement.
+    t0 = Clock::now();
+    const std::vector<int> batch = DrawBatch(ns, options.batch_size, rng);
+    std::vector<int> ids(ns);
+    for (int g = 0; g < ns; ++g) ids[g] = g;
+    const SphereTree tree(all.centers, all.radii, ids, &batch);
+
+    // 4. Per sphere: move, add, second chance, make feasible.
+    std::vector<std::vector<Vec3>> next(ns);
+    std::vector<signed char> kind(ns, 0);  // 1 intersected, 2 too far, 3 tangent
+    std::vector<char> second(ns, 0);
+    std::vector<int> dropped(ns, 0);
+    ParallelFor(ns, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t gi = begin; gi < end; ++gi) {
+        const int g = static_cast<int>(gi);
+        if (!all.wants_point[g]) continue;
+        const Vec3 c = all.centers.row(g).transpose();
+        const double r = all.radii[g];
+        const double d = std::sqrt(sqd[g]);
+        // proj_onto(): the side flips when the surface puts the centre on the wrong side.
+        const double sigma = (all.sign[g] < 0 ? -1.0 : 1.0) * (w[g] > 0.5 ? -1.0 : 1.0);
+        auto project = [&](const Vec3& target) {
+          Vec3 dir = target - c;
+          const double len = dir.norm();
+          if (len < 1e-300) return Vec3(c + Vec3(r, 0, 0));
+          return Vec3(c + sigma * r * dir / len);
+        };
+        const Vec3 q = project(cp.row(g).transpose());
+        std::vector<Vec3>& mine = pts[g];
+        std::vector<Vec3> cand;
+        auto closest_to = [&](const Vec3& target) {
+          size_t best = 0;
+          for (size_t k = 1; k < mine.size(); ++k)
+            if ((mine[k] - target).squaredNorm() < (mine[best] - target).squaredNorm()) best = k;
+          return best;
+        };
+        auto transport = [&](const Vec3& p, const Vec3& target) {
+          return Transport(p, target, c, r, options.tau, options.halvings, tree, options.tol, g);
+        };
+        if (r <= options.tol) {
+          kind[g] = 3;
+          cand = mine;
+        } else if (d < r - options.tol) {  // the surface cuts into the sphere
+          kind[g] = 1;
+          if (mine.empty()) {
+            cand.push_back(q);
+            second[g] = 1;
+          } else {
+            const size_t k0 = closest_to(q);
+            cand.push_back(transport(mine[k0], q));
+            if (options.max_points_per_sphere > 1) {
+              // Every existing point moves towards the projection of its own
+              // closest surface point; ordered by distance to the surface.
+              std::vector<std::pair<double, Vec3>> moved;
+              for (const Vec3& a : mine) {
+                const TriangleBvh::Hit h = bvh.Closest(a);
+                moved.emplace_back(h.sq_dist, transport(a, project(h.point)));
+              }
+              std::stable_sort(moved.begin(), moved.end(),
+                               [](const auto& x, const auto& y) { return x.first < y.first; });
+              // Severe cut (|t| < 4/5 |s|): one more point (up to n_max);
+              // otherwise the point farthest from the surface is discarded.
+              const bool severe = d < options.severe_ratio * r;
+              size_t keep = severe ? moved.size() : moved.size() - 1;
+              keep = std::min<size_t>(keep, static_cast<size_t>(options.max_points_per_sphere - 1));
+              for (size_t k = 0; k < keep; ++k) cand.push_back(moved[k].second);
+            }
+          }
+        } else if (d > r + options.tol) {  // the surface misses the sphere
+          kind[g] = 2;
+          if (mine.empty()) {
+            cand.push_back(q);
+            second[g] = 1;
+          } else {
+            cand.push_back(transport(mine[closest_to(q)], q));
+          }
+        } else {  // tangent: keep
+          kind[g] = 3;
+          cand = mine;
+          if (cand.empty()) {
+            cand.push_back(q);
+            second[g] = 1;
+          }
+        }
+        // Algorithm 2 against the batch of both signs; infeasible ones go.
+        std::vector<Vec3>& out = next[g];
+        for (Vec3 x : cand) {
+          if (MakeFeasible(tree, c, r, g, mf, &x))
+            out.push_back(x);
+          else
+            ++dropped[g];
+        }
+        if (out.empty()) second[g] = 0;
+      }
+    }, 64);
+    pts.swap(next);
+    for (int g = 0; g < ns; ++g) {
+      stats.intersected += kind[g] == 1;
+      stats.too_far += kind[g] == 2;
+      stats.tangent += kind[g] == 3;
+      stats.second_chance += second[g];
+      stats.dropped += dropped[g];
+      stats.points += static_cast<std::int64_t>(pts[g].size());
+    }
+    stats.update_s = Since(t0);
+    result.iterations.push_back(stats);
+    ctx.Info("fine_tune: iteration " + std::to_string(it + 1) + ": " + std::to_string(stats.points) + " points, " +
+             std::to_string(stats.intersected) + " intersected, " + std::to_string(stats.too_far) + " too far, " +
+             std::to_string(stats.tangent) + " tangent, " + std::to_string(stats.dropped) + " dropped");
+    ctx.Progress(static_cast<double>(it + 1) / options.iterations, "fine-tuning");
+  }
+  to_cloud(&result);
+  return result;
+}
+
+}  // namespace arcs

@@ -1,0 +1,65 @@
+// The fine-tuner of Reach for the Arcs (paper §4.2, Supplemental Algorithm 3):
+// a local–global iteration that reconstructs a surface from the current
+// tangency points, moves every sphere's points along the sphere towards the
+// projection of the surface's closest point (geodesic transport with step τ,
+// halved until feasible), adds points to spheres the surface cuts into (up to
+// n_max per sphere, one more per iteration when the cut is severe:
+// |t_i| < 4/5 |s_i|), gives spheres without a point a "second chance", and
+// makes every moved point feasible again against a batch of spheres of both
+// signs (Algorithm 2).
+//
+// Units: the unit frame of sphere_set.h (τ and tol in [0,1]^d units).
+#pragma once
+
+#include "framework/context.h"
+#include "framework/rfta/arc_projector.h"
+#include "framework/types.h"
+
+#include <functional>
+#include <vector>
+
+namespace arcs {
+
+struct FineTuneOptions {
+  int iterations = 10;              // k_max (paper Supplemental default 10; Table 1/2 runs: 20)
+  int max_points_per_sphere = 3;    // n_max (paper default 3; Table 1/2 runs: 30)
+  std::int64_t batch_size = 10000;  // b: constraint spheres per iteration, both signs, without replacement (paper §4.2)
+  double tau = 1e-2;                // geodesic step towards the target, unit frame (paper §4.2: τ = 10^-2)
+  int halvings = 20;                // τ halvings before giving up a move (official line_search_iters)
+  double severe_ratio = 0.8;        // |t_i| < ratio |s_i|: severe intersection, the point count may grow (paper: 4/5)
+  int local_search_iters = 20;      // make-feasible steps (Alg. 2)
+  int local_searches = 0;           // k_search; 0 = ceil(2 N^(1/d))
+  double tol = 1e-4;                // containment / tangency tolerance, unit frame (official tol)
+  PairChoice pair_choice = PairChoice::kClosest;  // Alg. 2 candidate rule
+  double zero_radius = 1e-12;       // |s|/scale <= this: no sphere
+  void Check() const;
+};
+
+// Reconstructs a mesh (input frame) from oriented points (input frame).
+using PointsToMesh = std::function<Mesh(const PointCloud&)>;
+
+struct FineTuneIteration {
+  std::int64_t points = 0;       // points after the iteration
+  std::int64_t intersected = 0;  // spheres the surface cut into
+  std::int64_t too_far = 0;      // spheres the surface missed
+  std::int64_t tangent = 0;      // spheres within tol of the surface
+  std::int64_t second_chance = 0;  // spheres that got their first point here
+  std::int64_t dropped = 0;      // candidates still infeasible after Alg. 2
+  double reconstruct_s = 0, query_s = 0, update_s = 0;  // wall time of the parts
+};
+
+struct FineTuneResult {
+  PointCloud points;        // input frame, unit outward normals (eq. 2)
+  std::vector<int> sample;  // sphere (SDF sample) of each point
+  std::vector<FineTuneIteration> iterations;
+  bool stopped_early = false;  // the reconstructor failed or gave an empty mesh: the last good points are kept
+  std::string stop_reason;
+};
+
+// Runs k_max fine-tuning iterations from the tangency points `initial`
+// (`initial_sample[j]` = the SDF sample of point j). `reconstruct` is the
+// configured surface reconstructor (screened Poisson by default).
+FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
+                        const PointsToMesh& reconstruct, const FineTuneOptions& options, const Context& ctx);
+
+}  // namespace arcs

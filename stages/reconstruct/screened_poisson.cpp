@@ -1,0 +1,50 @@
+// screened_poisson: oriented points -> mesh by screened Poisson surface
+// reconstruction (Kazhdan & Hoppe 2013; PCL's port), the reconstructor RFTA
+// uses. Defaults follow the official RFTA call where PCL has the parameter.
+#include "framework/reconstruct/poisson.h"
+#include "stages/builtin.h"
+
+namespace arcs {
+
+void RegisterScreenedPoisson(Registry& r) {
+  StageInfo s;
+  s.name = "screened_poisson";
+  s.role = Role::kReconstructor;
+  s.doc = "screened Poisson surface reconstruction of the oriented points (PCL's PoissonRecon port; RFTA's sPSR)";
+  const PoissonOptions def;
+  s.params
+      .Int("depth", def.depth,
+           "maximum octree depth (2-12); 0 = automatic: finest cell ~ half the point spacing, clamped to [6, 10]",
+           0, 12)
+      .Int("min_depth", def.min_depth, "depth up to which the octree is complete (PoissonRecon fullDepth)", 0, 12)
+      .Double("point_weight", def.point_weight,
+              "screening weight of the point-value term (RFTA: 10; 0 = unscreened 2006 Poisson)", 0.0, 1e6)
+      .Double("samples_per_node", def.samples_per_node,
+              "minimum points per octree leaf (RFTA: 1.5; 15-20 for noisy points)", 0.5, 100.0)
+      .Double("scale", def.scale, "reconstruction cube side / bounding-box extent of the points", 1.01, 16.0)
+      .Bool("manifold", def.manifold, "split marching-cubes polygons at their barycentre (manifold output)")
+      .Int("threads", def.threads,
+           "OpenMP threads inside PCL; only 1 is deterministic (set OMP_WAIT_POLICY=PASSIVE for more)", 1, 256);
+  s.outputs = {"poisson_depth"};
+  s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
+    if (!d.points || !d.points->HasNormals()) {
+      throw Error("screened_poisson needs oriented points (points with normals) from an earlier stage");
+    }
+    PoissonOptions o;
+    o.depth = static_cast<int>(p.GetInt("depth"));
+    o.min_depth = static_cast<int>(p.GetInt("min_depth"));
+    o.point_weight = p.GetDouble("point_weight");
+    o.samples_per_node = p.GetDouble("samples_per_node");
+    o.scale = p.GetDouble("scale");
+    o.manifold = p.GetBool("manifold");
+    o.threads = static_cast<int>(p.GetInt("threads"));
+    o.Check();
+    // Resolve the automatic depth here so the row records the depth used.
+    if (o.depth == 0) o.depth = AutoPoissonDepth(*d.points, o);
+    d.output = ReconstructPoisson(*d.points, o, ctx);
+    d.SetMetric("poisson_depth", o.depth);
+  });
+  r.Register(std::move(s));
+}
+
+}  // namespace arcs

@@ -1,0 +1,49 @@
+// rfta: Reach for the Arcs as one SDF -> mesh stage (paper Alg. 1): an
+// empty-space sampler, the arc projector, the fine-tuner and the final
+// reconstruction, each the registered stage of that name, so `rfta` and the
+// explicit pipeline give the same result. Writes the time of each part.
+#include "registry/registry.h"
+#include "stages/builtin.h"
+
+#include <chrono>
+
+namespace arcs {
+
+void RegisterRfta(Registry& r) {
+  StageInfo s;
+  s.name = "rfta";
+  s.role = Role::kSdfToMesh;
+  s.doc = "Reach for the Arcs (paper Alg. 1): free-space sampling, arc projection, fine-tuning, reconstruction";
+  s.params.Stage("sampler", "empty_space_sampler", "rasterize", "empty-space sampler (paper: rasterize)")
+      .Int("iterations", 10, "k_max fine-tuning iterations (paper default 10; Table 1/2 runs 20)", 0, 10000)
+      .Int("max_points_per_sphere", 3, "n_max tangency points per sphere (paper default 3; Table 1/2 runs 30)", 1, 1000)
+      .Int("batch_size", 10000, "b constraint spheres, drawn without replacement (paper 10 000; 0 = all)", 0,
+           1000000000)
+      .Stage("reconstructor", "reconstructor", "screened_poisson",
+             "surface reconstructor for fine-tuning and the final mesh (paper: screened Poisson, weight 10)");
+  s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
+    if (!d.registry) throw Error("rfta: needs the case's registry");
+    const Registry& reg = *d.registry;
+    using Clock = std::chrono::steady_clock;
+    auto timed = [&](const char* metric, const StageSpec& spec) {
+      const auto t0 = Clock::now();
+      RunNestedStage(spec, ctx, d);
+      d.SetMetric(metric, std::chrono::duration<double>(Clock::now() - t0).count());
+    };
+    ParamMap proj;
+    proj.Set("batch_size", p.GetInt("batch_size"));
+    ParamMap ft;
+    ft.Set("iterations", p.GetInt("iterations"));
+    ft.Set("max_points_per_sphere", p.GetInt("max_points_per_sphere"));
+    ft.Set("batch_size", p.GetInt("batch_size"));
+    ft.Set("reconstructor", p.Get("reconstructor"));
+    timed("rfta_sampler_s", p.GetStage("sampler"));
+    timed("rfta_projector_s", StageSpec{"arc_projector", reg.Resolve("arc_projector", proj)});
+    timed("rfta_fine_tune_s", StageSpec{"fine_tune", reg.Resolve("fine_tune", ft)});
+    timed("rfta_final_s", p.GetStage("reconstructor"));
+    if (!d.output) throw Error("rfta: the reconstructor produced no mesh");
+  });
+  r.Register(std::move(s));
+}
+
+}  // namespace arcs
