@@ -16,9 +16,11 @@
 #include "registry/plugin_api.h"
 #include "stages/builtin.h"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <unistd.h>
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -45,6 +47,9 @@ commands:
                              sample a mesh's SDF (paper protocol) to OUT (.npy grid or .txt)
   eval MESH REFERENCE [--samples N] [--sdf FILE] [--no-normalize]
                              the paper's metrics of MESH against REFERENCE
+  reconstruct SDF OUT [--method STAGE] [--param name=value]...
+                             SDF samples (grid .npy, (N,d+1) .npy, text) -> mesh OUT;
+                             method: rfta (default), marching_cubes, or any sdf_to_mesh stage
   shape NAME OUT             write a built-in shape (sphere, torus, knot, two_tori)
   version                    version, build and plugin API
 
@@ -247,6 +252,74 @@ int CmdEval(const Args& args) {
   return 0;
 }
 
+// Decodes "name=value" for a stage parameter by the schema's type.
+ParamValue DecodeParam(const ParamSpec& spec, const std::string& text) {
+  ParamValue v;
+  switch (spec.type) {
+    case ParamType::kBool:
+      if (text != "true" && text != "false") Usage(spec.name + " must be true or false");
+      v = text == "true";
+      break;
+    case ParamType::kInt: v = static_cast<std::int64_t>(ParseInt(text, spec.name)); break;
+    case ParamType::kDouble: {
+      char* end = nullptr;
+      const double d = std::strtod(text.c_str(), &end);
+      if (text.empty() || *end) Usage(spec.name + " must be a number, got '" + text + "'");
+      v = d;
+      break;
+    }
+    case ParamType::kString:
+    case ParamType::kChoice: v = text; break;
+    case ParamType::kStage: {
+      auto st = std::make_shared<StageSpec>();
+      st->stage = text;
+      v = st;
+      break;
+    }
+  }
+  return v;
+}
+
+int CmdReconstruct(Registry& registry, const Args& args) {
+  if (args.positional.size() != 2) Usage("reconstruct needs SDF (input samples) and OUT (mesh file)");
+  const std::string method = args.Get("--method", "rfta");
+  const StageInfo& info = registry.Get(method);
+  if (info.role != Role::kSdfToMesh)
+    Usage("--method " + method + " is a " + RoleName(info.role) + " stage; an sdf_to_mesh stage is needed");
+  ParamMap given;
+  for (const auto& kv : args.All("--param")) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos) Usage("--param expects name=value, got '" + kv + "'");
+    const std::string name = kv.substr(0, eq);
+    const ParamSpec* spec = info.params.Find(name);
+    if (!spec) {
+      std::string valid;
+      for (const auto& p : info.params.specs()) valid += (valid.empty() ? "" : ", ") + p.name;
+      Usage("stage '" + method + "' has no parameter '" + name + "' (valid: " + valid + ")");
+    }
+    given.Set(name, DecodeParam(*spec, kv.substr(eq + 1)));
+  }
+  const ParamMap params = registry.Resolve(method, given);
+  CaseData data;
+  data.registry = &registry;
+  data.samples = ReadSdf(args.positional[0]);
+  Context ctx(args.Has("--seed") ? static_cast<std::uint64_t>(ParseInt(args.Get("--seed"), "--seed")) : 1);
+  ctx.set_log([](LogLevel l, const std::string& m) {
+    if (l >= LogLevel::kWarning) std::fprintf(stderr, "%s\n", m.c_str());
+  });
+  ThreadLimit limit(args.Has("--threads") ? ParseInt(args.Get("--threads"), "--threads") : 0);
+  const auto t0 = std::chrono::steady_clock::now();
+  registry.Get(method).factory(params)->Run(ctx, data);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!data.output || data.output->Empty()) throw Error(method + " produced an empty mesh");
+  WriteMesh(args.positional[1], *data.output);
+  const Topology t = ComputeTopology(*data.output);
+  std::fprintf(stderr, "%s: %lld samples -> %d vertices, %d faces (closed %d, genus %d) in %.2f s -> %s\n",
+               method.c_str(), static_cast<long long>(data.samples->Size()), t.vertices, t.faces, t.closed, t.genus,
+               secs, args.positional[1].c_str());
+  return 0;
+}
+
 int CmdShape(const Args& args) {
   if (args.positional.size() != 2) Usage("shape needs NAME and OUT");
   WriteMesh(args.positional[1], MakeBuiltinShape(args.positional[0]));
@@ -256,6 +329,14 @@ int CmdShape(const Args& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // libgomp (used by PCL's Poisson) spin-waits by default, which on a busy
+  // 2-core machine costs ~3x the CPU time; it reads OMP_WAIT_POLICY once at
+  // load time, so set it and re-execute ourselves when it is absent.
+  if (!std::getenv("OMP_WAIT_POLICY") && !std::getenv("ARCS_NO_REEXEC")) {
+    setenv("OMP_WAIT_POLICY", "PASSIVE", 1);
+    setenv("ARCS_NO_REEXEC", "1", 1);
+    execv("/proc/self/exe", argv);  // returns only on failure: carry on as we are
+  }
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
     std::printf("%s", kUsage);
     return argc < 2 ? 2 : 0;
@@ -280,6 +361,11 @@ int main(int argc, char** argv) {
     if (cmd == "table") return CmdTable(Parse(argc, argv, 2, {"--tables"}, {}));
     if (cmd == "sdf") return CmdSdf(Parse(argc, argv, 2, {"--n", "--random", "--rotate"}, {"--no-normalize"}));
     if (cmd == "eval") return CmdEval(Parse(argc, argv, 2, {"--samples", "--sdf"}, {"--no-normalize"}));
+    if (cmd == "reconstruct") {
+      const Args a = Parse(argc, argv, 2, {"--plugin", "--method", "--param", "--seed", "--threads"}, {});
+      LoadPlugins(registry, a);
+      return CmdReconstruct(registry, a);
+    }
     if (cmd == "shape") return CmdShape(Parse(argc, argv, 2, {}, {}));
     if (cmd == "version") {
       std::printf("arcs 0.1.0 (git %s, %s build, plugin API %d)\n", GitRevision(), BuildType(), ARCS_PLUGIN_API_VERSION);

@@ -151,7 +151,9 @@ TEST(ArcProjector, DeterministicAcrossThreadsAndBatched) {
     const double r = std::abs(s.values[a.sample[t]]);
     EXPECT_NEAR((x - SamplePoint(s, a.sample[t])).norm(), r, 1e-9);
     const double dot = a.points.N.row(t).dot(x.normalized());
-    if (r > 1.0 / 24 / 50) EXPECT_GT(dot, 0.0);
+    if (r > 1.0 / 24 / 50) {
+      EXPECT_GT(dot, 0.0);
+    }
     mean_dot += dot / a.points.Size();
   }
   EXPECT_GT(mean_dot, 0.99);

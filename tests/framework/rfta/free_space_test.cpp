@@ -138,8 +138,11 @@ TEST(Rasterize, BandIsFreeAndNearTheBoundary) {
   // Grid spacing h = 0.05.
   for (std::int64_t j = 0; j < f.Size(); ++j) {
     const double r = f.points.row(j).norm();
-    if (f.sign[j] > 0) EXPECT_LT(r, 0.3 + 0.2 * 0.05);
-    else EXPECT_GT(r, 0.3 - 0.4 * 0.05);
+    if (f.sign[j] > 0) {
+      EXPECT_LT(r, 0.3 + 0.2 * 0.05);
+    } else {
+      EXPECT_GT(r, 0.3 - 0.4 * 0.05);
+    }
     EXPECT_NEAR(r, 0.3, 0.4 * 0.05);
   }
 }
