@@ -1,0 +1,114 @@
+// The fine-tuner (paper Alg. 3) with a stand-in reconstructor: on exact
+// samples of a ball, the "reconstruction" is the ball of radius = mean point
+// distance to the centre, so the tuned points must stay on their spheres,
+// feasible, within n_max per sphere, and converge to the true surface.
+#include "framework/geometry/builtin_shapes.h"
+#include "framework/rfta/arc_projector.h"
+#include "framework/rfta/fine_tune.h"
+#include "framework/rfta/free_space.h"
+#include "framework/util/parallel.h"
+#include "tests/framework/rfta/rfta_test_shapes.h"
+
+#include <gtest/gtest.h>
+
+namespace arcs {
+namespace {
+
+constexpr double kR = 0.3;
+
+Mesh FitBall(const PointCloud& pc) {
+  double r = 0;
+  for (int i = 0; i < pc.Size(); ++i) r += pc.P.row(i).norm();
+  return MakeIcosphere(r / pc.Size(), 4);
+}
+
+struct BallCase {
+  SdfSamples samples = rfta_test::BallSdfGrid(12, kR);
+  ArcProjection a0;
+  BallCase() {
+    Context ctx(3);
+    const FreeSpaceSamples free = RasterizeFreeSpace(samples, RasterizeOptions{}, ctx, nullptr);
+    a0 = ProjectToArcs(samples, free, ArcProjectorOptions{}, ctx);
+  }
+};
+
+TEST(FineTune, PointsStayOnTheirSpheresFeasibleAndNearTheSurface) {
+  BallCase s;
+  FineTuneOptions o;
+  o.iterations = 4;
+  o.max_points_per_sphere = 3;
+  const FineTuneResult r = FineTune(s.samples, s.a0.points, s.a0.sample, FitBall, o, Context(5));
+  ASSERT_EQ(r.iterations.size(), 4u);
+  ASSERT_GT(r.points.Size(), 0);
+  std::vector<int> count(s.samples.Size(), 0);
+  double max_surface = 0;
+  for (int j = 0; j < r.points.Size(); ++j) {
+    const int i = r.sample[j];
+    ++count[i];
+    const Vec3 x = r.points.P.row(j).transpose();
+    const Vec3 p = s.samples.points.row(i).transpose();
+    EXPECT_NEAR((x - p).norm(), std::abs(s.samples.values[i]), 1e-9) << "point " << j << " left its sphere";
+    // Feasible: no sphere contains it by more than the tolerance (unit frame tol 1e-4, extent 1 here).
+    for (int k = 0; k < s.samples.Size(); ++k) {
+      if (k == i) continue;
+      const double depth = std::abs(s.samples.values[k]) - (x - Vec3(s.samples.points.row(k).transpose())).norm();
+      ASSERT_LT(depth, 2e-4) << "point " << j << " inside sphere " << k;
+    }
+    max_surface = std::max(max_surface, std::abs(x.norm() - kR));
+    // Outward unit normals (eq. 2): radial for a ball.
+    EXPECT_NEAR(r.points.N.row(j).norm(), 1.0, 1e-9);
+    EXPECT_GT(r.points.N.row(j).dot(r.points.P.row(j)), 0.0);
+  }
+  for (int c : count) EXPECT_LE(c, 3);
+  EXPECT_LT(max_surface, 0.1 / 12) << "tangency points should lie near the true sphere";
+}
+
+TEST(FineTune, SameResultAtOneAndTwoThreads) {
+  BallCase s;
+  FineTuneOptions o;
+  o.iterations = 3;
+  FineTuneResult a, b;
+  {
+    ThreadLimit l(1);
+    a = FineTune(s.samples, s.a0.points, s.a0.sample, FitBall, o, Context(7));
+  }
+  {
+    ThreadLimit l(2);
+    b = FineTune(s.samples, s.a0.points, s.a0.sample, FitBall, o, Context(7));
+  }
+  ASSERT_EQ(a.points.Size(), b.points.Size());
+  EXPECT_EQ((a.points.P - b.points.P).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(a.sample, b.sample);
+}
+
+TEST(FineTune, FailingReconstructorStopsEarlyAndKeepsThePoints) {
+  BallCase s;
+  FineTuneOptions o;
+  o.iterations = 5;
+  int calls = 0;
+  const PointsToMesh flaky = [&](const PointCloud& pc) {
+    if (++calls == 3) throw Error("solver exploded");
+    return FitBall(pc);
+  };
+  const FineTuneResult r = FineTune(s.samples, s.a0.points, s.a0.sample, flaky, o, Context(1));
+  EXPECT_TRUE(r.stopped_early);
+  EXPECT_NE(r.stop_reason.find("solver exploded"), std::string::npos);
+  EXPECT_EQ(r.iterations.size(), 2u);
+  EXPECT_GT(r.points.Size(), 0);
+}
+
+TEST(FineTune, BadInputIsAClearError) {
+  BallCase s;
+  std::vector<int> wrong = s.a0.sample;
+  wrong.pop_back();
+  EXPECT_THROW(FineTune(s.samples, s.a0.points, wrong, FitBall, FineTuneOptions{}, Context(1)), Error);
+  FineTuneOptions bad;
+  bad.max_points_per_sphere = 0;
+  EXPECT_THROW(FineTune(s.samples, s.a0.points, s.a0.sample, FitBall, bad, Context(1)), OptionError);
+  SdfSamples positive = s.samples;
+  positive.values = positive.values.cwiseAbs().array() + 0.01;
+  EXPECT_THROW(FineTune(positive, s.a0.points, s.a0.sample, FitBall, FineTuneOptions{}, Context(1)), Error);
+}
+
+}  // namespace
+}  // namespace arcs
