@@ -7,3 +7,7 @@ cd "$(dirname "$0")/.."
 ./scripts/install_deps.sh
 ./scripts/build.sh
 ./build/app/arcs run experiments/quickstart.yaml --out results/quickstart "$@"
+# Reach for the Arcs on an SDF arcs makes itself (a trefoil knot, 30^3 grid).
+./build/app/arcs sdf shape:knot results/knot_sdf30.npy --n 30
+./build/app/arcs reconstruct results/knot_sdf30.npy results/knot_rfta.ply
+./build/app/arcs eval results/knot_rfta.ply shape:knot --samples 200000

@@ -66,10 +66,10 @@ AllSpheres Combine(const SignedSpheres& s) {
 // Rotates p (on the sphere (c, r)) towards q along the great circle by at most
 // `step` arc length, halving the step until the point is feasible (no batch
 // sphere contains it by more than tol). Returns p itself when no step is
-// feasible (p is the last known feasible point, paper §4.2; the official code
-// returns q here).
+// feasible (p is the last known feasible point, paper §4.2), or q when
+// `jump_when_blocked` (the official code; Alg. 2 then repairs q).
 Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double step, int halvings,
-               const SphereTree& tree, double tol, int self) {
+               const SphereTree& tree, double tol, int self, bool jump_when_blocked) {
   const Vec3 u = (p - c) / r, v = (q - c) / r;
   const double cosang = std::clamp(u.dot(v), -1.0, 1.0);
   const double full = std::acos(cosang);
@@ -85,7 +85,7 @@ Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double ste
     if (!tree.AnyContains(x, -tol, self)) return x;
     theta *= 0.5;
   }
-  return p;
+  return jump_when_blocked ? q : p;
 }
 
 }  // namespace
@@ -222,7 +222,8 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           return best;
         };
         auto transport = [&](const Vec3& p, const Vec3& target) {
-          return Transport(p, target, c, r, options.tau, options.halvings, tree, options.tol, g);
+          return Transport(p, target, c, r, options.tau, options.halvings, tree, options.tol, g,
+                           options.jump_when_blocked);
         };
         if (r <= options.tol) {
           kind[g] = 3;
@@ -259,7 +260,11 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
             cand.push_back(q);
             second[g] = 1;
           } else {
-            cand.push_back(transport(mine[closest_to(q)], q));
+            const size_t k0 = closest_to(q);
+            cand.push_back(transport(mine[k0], q));
+            if (options.keep_points_when_missed)
+              for (size_t k = 0; k < mine.size(); ++k)
+                if (k != k0) cand.push_back(mine[k]);
           }
         } else {  // tangent: keep
           kind[g] = 3;

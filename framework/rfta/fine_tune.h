@@ -32,6 +32,14 @@ struct FineTuneOptions {
   double tol = 1e-4;                // containment / tangency tolerance, unit frame (official tol)
   PairChoice pair_choice = PairChoice::kClosest;  // Alg. 2 candidate rule
   double zero_radius = 1e-12;       // |s|/scale <= this: no sphere
+  // When no halving of the step gives a feasible point: true = jump to the
+  // target and let Alg. 2 repair it (the official code); false = stay put
+  // (the last feasible point, as the paper's text argues).
+  bool jump_when_blocked = true;
+  // Spheres the surface misses keep only their moved closest point (paper
+  // Alg. 3 line 11) when false; keep all their points, the closest moved,
+  // when true.
+  bool keep_points_when_missed = false;
   void Check() const;
 };
 

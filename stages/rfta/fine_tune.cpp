@@ -22,6 +22,10 @@ void RegisterFineTune(Registry& r) {
       .Double("tol", 1e-4, "containment/tangency tolerance in [0,1]-normalised units (official 1e-4)", 0.0, 0.05)
       .Choice("pair_choice", "closest", {"closest", "first"},
               "Alg. 2 candidate rule: closest admissible (paper line 13) or first pair (official code)")
+      .Bool("jump_when_blocked", true,
+            "no feasible step: jump to the target and repair it by Alg. 2 (official) instead of staying")
+      .Bool("keep_points_when_missed", false,
+            "spheres the surface misses keep all their points (false: only the moved one, paper Alg. 3)")
       .Stage("reconstructor", "reconstructor", "screened_poisson",
              "surface reconstructor the points are tuned against (paper: screened Poisson)");
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
@@ -36,6 +40,8 @@ void RegisterFineTune(Registry& r) {
     o.local_search_iters = static_cast<int>(p.GetInt("local_search_iters"));
     o.local_searches = static_cast<int>(p.GetInt("local_searches"));
     o.tol = p.GetDouble("tol");
+    o.jump_when_blocked = p.GetBool("jump_when_blocked");
+    o.keep_points_when_missed = p.GetBool("keep_points_when_missed");
     o.pair_choice = p.GetString("pair_choice") == "first" ? PairChoice::kFirst : PairChoice::kClosest;
     const StageSpec& rec = p.GetStage("reconstructor");
     PointsToMesh reconstruct = [&](const PointCloud& pc) {
