@@ -32,11 +32,15 @@ struct PoissonOptions {
   // Depth up to which the octree is complete (PoissonRecon's "fullDepth";
   // PCL default 5). Clamped to `depth` when larger. Range 0..12.
   int min_depth = 5;
-  // Screening weight of the point-value term (RFTA passes 10; PCL default 4).
-  // 0 gives the unscreened 2006 method. Range [0, 1e6]. On exact samples of a
-  // sphere/torus (20k points, depth 8) 10 is 10-25 % more accurate than 4
-  // and ~2x more than 0.
-  double point_weight = 10.0;
+  // Screening weight of the point-value term (PCL default 4). 0 gives the
+  // unscreened 2006 method. Range [0, 1e6]. PCL scales this weight
+  // differently from PoissonRecon 16/18 (which RFTA calls with 10, multiplied
+  // by the sample density), so the numbers are not interchangeable. Measured
+  // inside RFTA (paper preset, n = 20, docs/decisions.md): bunny_fixed
+  // Chamfer 0.0257 at 10, 0.0206 at 100, 0.0162 at 400, broken surfaces at
+  // 1600; torus 0.0023 / 0.0021 at 100 / 400. On exact samples of a
+  // sphere/torus (20k points, depth 8) 10 beats 4 by 10-25 %, 0 by ~2x.
+  double point_weight = 400.0;
   // Minimum number of samples per octree leaf: the octree stops refining
   // where the points are sparser (RFTA/PoissonRecon 1.5; 1 is ~25 % more
   // accurate on exact samples, 15-20 suits noisy ones). Range [0.5, 100].

@@ -69,7 +69,8 @@ AllSpheres Combine(const SignedSpheres& s) {
 // feasible (p is the last known feasible point, paper §4.2), or q when
 // `jump_when_blocked` (the official code; Alg. 2 then repairs q).
 Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double step, int halvings,
-               const SphereTree& tree, double tol, int self, bool jump_when_blocked) {
+               const SphereTree& tree, double tol, int self, bool jump_when_blocked,
+               const SphereTree::LocalSet* local) {
   const Vec3 u = (p - c) / r, v = (q - c) / r;
   const double cosang = std::clamp(u.dot(v), -1.0, 1.0);
   const double full = std::acos(cosang);
@@ -82,7 +83,7 @@ Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double ste
   double theta = std::min(step / r, full);
   for (int h = 0; h <= halvings; ++h) {
     const Vec3 x = c + r * Eigen::AngleAxisd(theta, axis).toRotationMatrix() * u;
-    if (!tree.AnyContains(x, -tol, self)) return x;
+    if (!tree.AnyContains(x, -tol, self, local)) return x;
     theta *= 0.5;
   }
   return jump_when_blocked ? q : p;
@@ -197,12 +198,22 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
     std::vector<signed char> kind(ns, 0);  // 1 intersected, 2 too far, 3 tangent
     std::vector<char> second(ns, 0);
     std::vector<int> dropped(ns, 0);
+    // Spheres up to this radius scan a short list of the constraint balls
+    // near them (identical answers, far fewer tree traversals).
+    const double local_radius = 2.0 / SamplesPerAxis(split.num_samples, samples.dim);
     ParallelFor(ns, [&](std::int64_t begin, std::int64_t end) {
+      SphereTree::LocalSet local_set;
       for (std::int64_t gi = begin; gi < end; ++gi) {
         const int g = static_cast<int>(gi);
         if (!all.wants_point[g]) continue;
         const Vec3 c = all.centers.row(g).transpose();
         const double r = all.radii[g];
+        const SphereTree::LocalSet* local = nullptr;
+        if (r <= local_radius) {
+          const Vec3 margin = Vec3::Constant(r + 2 * options.tol);
+          tree.CollectLocal(c - margin, c + margin, options.tol, &local_set);
+          local = &local_set;
+        }
         const double d = std::sqrt(sqd[g]);
         // proj_onto(): the side flips when the surface puts the centre on the wrong side.
         const double sigma = (all.sign[g] < 0 ? -1.0 : 1.0) * (w[g] > 0.5 ? -1.0 : 1.0);
@@ -223,7 +234,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         };
         auto transport = [&](const Vec3& p, const Vec3& target) {
           return Transport(p, target, c, r, options.tau, options.halvings, tree, options.tol, g,
-                           options.jump_when_blocked);
+                           options.jump_when_blocked, local);
         };
         if (r <= options.tol) {
           kind[g] = 3;
@@ -277,7 +288,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         // Algorithm 2 against the batch of both signs; infeasible ones go.
         std::vector<Vec3>& out = next[g];
         for (Vec3 x : cand) {
-          if (MakeFeasible(tree, c, r, g, mf, &x))
+          if (MakeFeasible(tree, c, r, g, mf, &x, nullptr, local))
             out.push_back(x);
           else
             ++dropped[g];

@@ -18,7 +18,7 @@ void RegisterScreenedPoisson(Registry& r) {
            0, 12)
       .Int("min_depth", def.min_depth, "depth up to which the octree is complete (PoissonRecon fullDepth)", 0, 12)
       .Double("point_weight", def.point_weight,
-              "screening weight of the point-value term (RFTA: 10; 0 = unscreened 2006 Poisson)", 0.0, 1e6)
+              "screening weight (PCL's scale: 400 here ~ PoissonRecon's 10 in RFTA, measured; 0 = unscreened)", 0.0, 1e6)
       .Double("samples_per_node", def.samples_per_node,
               "minimum points per octree leaf (RFTA: 1.5; 15-20 for noisy points)", 0.5, 100.0)
       .Double("scale", def.scale, "reconstruction cube side / bounding-box extent of the points", 1.01, 16.0)
