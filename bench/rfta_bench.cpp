@@ -59,6 +59,12 @@ void Run(const BenchCase& bc, const Registry& registry) {
   ParamMap given;
   given.Set("iterations", static_cast<std::int64_t>(bc.iterations));
   given.Set("max_points_per_sphere", static_cast<std::int64_t>(bc.points_per_sphere));
+  if (const char* td = std::getenv("RFTA_BENCH_TUNING_DEPTH")) {
+    auto spec = std::make_shared<StageSpec>();
+    spec->stage = "screened_poisson";
+    spec->params.Set("depth", static_cast<std::int64_t>(std::atoi(td)));
+    given.Set("tuning_reconstructor", spec);
+  }
   const ParamMap params = registry.Resolve("rfta", given);
   t0 = std::chrono::steady_clock::now();
   registry.Get("rfta").factory(params)->Run(ctx, d);

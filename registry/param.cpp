@@ -212,6 +212,14 @@ ParamSchema& ParamSchema::Stage(const std::string& name, const std::string& role
   return Add(std::move(s));
 }
 
+ParamSchema& ParamSchema::Stage(const std::string& name, const std::string& role, const StageSpec& def,
+                                const std::string& doc) {
+  ParamSpec s;
+  s.name = name, s.type = ParamType::kStage, s.doc = doc, s.stage_role = role;
+  s.default_value = std::make_shared<StageSpec>(def);
+  return Add(std::move(s));
+}
+
 const ParamSpec* ParamSchema::Find(const std::string& name) const {
   for (const auto& s : specs_)
     if (s.name == name) return &s;

@@ -87,6 +87,9 @@ class ParamSchema {
   // parameters take their own defaults).
   ParamSchema& Stage(const std::string& name, const std::string& role, const std::string& def,
                      const std::string& doc);
+  // The same with parameters for the default stage (the rest take their defaults).
+  ParamSchema& Stage(const std::string& name, const std::string& role, const StageSpec& def,
+                     const std::string& doc);
 
   const std::vector<ParamSpec>& specs() const { return specs_; }
   const ParamSpec* Find(const std::string& name) const;

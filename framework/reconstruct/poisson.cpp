@@ -21,6 +21,7 @@ namespace arcs {
 void PoissonOptions::Check() const {
   ARCS_CHECK_OPTION(depth == 0 || (depth >= 2 && depth <= 12), "depth", depth,
                     "0 (automatic) or an integer in [2, 12]");
+  ARCS_CHECK_OPTION(depth_offset >= -8 && depth_offset <= 4, "depth_offset", depth_offset, "an integer in [-8, 4]");
   ARCS_CHECK_OPTION(min_depth >= 0 && min_depth <= 12, "min_depth", min_depth,
                     "an integer in [0, 12]");
   ARCS_CHECK_OPTION(std::isfinite(point_weight) && point_weight >= 0.0 && point_weight <= 1e6,
@@ -134,7 +135,8 @@ int AutoDepthFromBox(const PointCloud& pc, const PoissonOptions& o, const Box& b
   if (!(h > 0.0)) h = extent / std::sqrt(static_cast<double>(pc.P.rows()));
   const double cells = o.scale * extent / h;  // spacings across the octree's root cube
   const int d = static_cast<int>(std::lround(std::log2(std::max(cells, 1.0)))) + 1;
-  return std::clamp(d, PoissonOptions::kMinAutoDepth, PoissonOptions::kMaxAutoDepth);
+  return std::clamp(std::clamp(d, PoissonOptions::kMinAutoDepth, PoissonOptions::kMaxAutoDepth) + o.depth_offset, 2,
+                    12);
 }
 
 // Puts the mesh in canonical order: vertices sorted lexicographically by

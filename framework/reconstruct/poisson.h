@@ -29,6 +29,10 @@ struct PoissonOptions {
   // Deeper than the spacing supports buys nothing: the octree stops refining
   // where a cell holds fewer than `samples_per_node` points.
   int depth = 0;
+  // Added to the automatic depth (after its clamp to [6, 10]; the sum is
+  // clamped to [2, 12]): -1 or -2 give a coarser, faster surface, e.g. for
+  // RFTA's fine-tuning iterations. Ignored when depth > 0. Range -8..4.
+  int depth_offset = 0;
   // Depth up to which the octree is complete (PoissonRecon's "fullDepth";
   // PCL default 5). Clamped to `depth` when larger. Range 0..12.
   int min_depth = 5;

@@ -16,6 +16,8 @@ void RegisterScreenedPoisson(Registry& r) {
       .Int("depth", def.depth,
            "maximum octree depth (2-12); 0 = automatic: finest cell ~ half the point spacing, clamped to [6, 10]",
            0, 12)
+      .Int("depth_offset", def.depth_offset,
+           "added to the automatic depth (depth 0): -1/-2 = coarser and faster (RFTA's fine-tuning)", -8, 4)
       .Int("min_depth", def.min_depth, "depth up to which the octree is complete (PoissonRecon fullDepth)", 0, 12)
       .Double("point_weight", def.point_weight,
               "screening weight (PCL's scale: 400 here ~ PoissonRecon's 10 in RFTA, measured; 0 = unscreened)", 0.0, 1e6)
@@ -33,6 +35,7 @@ void RegisterScreenedPoisson(Registry& r) {
     PoissonOptions o;
     o.depth = static_cast<int>(p.GetInt("depth"));
     o.min_depth = static_cast<int>(p.GetInt("min_depth"));
+    o.depth_offset = static_cast<int>(p.GetInt("depth_offset"));
     o.point_weight = p.GetDouble("point_weight");
     o.samples_per_node = p.GetDouble("samples_per_node");
     o.scale = p.GetDouble("scale");
