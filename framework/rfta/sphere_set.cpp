@@ -1,5 +1,8 @@
 #include "framework/rfta/sphere_set.h"
 
+#include "framework/rfta/sphere_tree.h"
+#include "framework/util/parallel.h"
+
 #include "framework/error.h"
 
 #include <algorithm>
@@ -132,6 +135,31 @@ FreeSpaceSamples MergeFreeSpace(const UnitFrame& frame, const MatrixX3d& pos, co
     }
   }
   return out;
+}
+
+std::int64_t CountSignConflicts(const SignedSpheres& spheres, double tol, double* max_depth) {
+  const SphereSet& pos = spheres.positive;
+  const SphereSet& neg = spheres.negative;
+  if (max_depth) *max_depth = 0.0;
+  if (pos.Size() == 0 || neg.Size() == 0) return 0;
+  std::vector<int> ids(neg.Size());
+  for (int i = 0; i < neg.Size(); ++i) ids[i] = i;
+  const SphereTree tree(neg.centers, neg.radii, ids);
+  // Per-sphere results, combined in order (deterministic at any thread count).
+  std::vector<double> depth(pos.Size(), 0.0);
+  ParallelFor(pos.Size(), [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i) {
+      // Overlap of ball i with the union of negative balls: r_i - min_j (|c_i - c_j| - r_j).
+      const double d = tree.DistanceToUnion(pos.centers.row(i).transpose(), 1.0);
+      depth[i] = pos.radii[i] - d;
+    }
+  }, 256);
+  std::int64_t count = 0;
+  for (double d : depth) {
+    if (d > tol) ++count;
+    if (max_depth) *max_depth = std::max(*max_depth, d);
+  }
+  return count;
 }
 
 }  // namespace arcs

@@ -84,6 +84,13 @@ SignedSpheres SplitSpheresBySign(const SdfSamples& samples, const SignSplitOptio
 // all-positive or all-negative samples contain no surface to reconstruct.
 void RequireBothSigns(const SignedSpheres& spheres, const std::string& who);
 
+// Inconsistent SDF data: positive and negative spheres that overlap by more
+// than `tol` (unit frame). A true SDF never has any (the surface separates
+// them); noisy SDFs (paper Fig. 23) have many small ones. Returns the number
+// of positive spheres overlapping a negative one and, optionally, the largest
+// overlap depth (unit frame).
+std::int64_t CountSignConflicts(const SignedSpheres& spheres, double tol, double* max_depth = nullptr);
+
 // n = N^(1/d), computed as the official Python does (N ** (1/d)).
 double SamplesPerAxis(std::int64_t num_samples, int dim);
 

@@ -2,6 +2,7 @@
 // empty-space sampler, the arc projector, the fine-tuner and the final
 // reconstruction, each the registered stage of that name, so `rfta` and the
 // explicit pipeline give the same result. Writes the time of each part.
+#include "framework/rfta/sphere_set.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
 
@@ -28,7 +29,10 @@ void RegisterRfta(Registry& r) {
                return coarse;
              }(),
              "reconstructor inside fine-tuning: screened Poisson three octree levels coarser than the final "
-             "(bench/rfta_bench: bunny n=20 paper preset 22.9 s, Chamfer 0.0175; official 227 s, 0.0219)");
+             "(bench/rfta_bench: bunny n=20 paper preset 22.9 s, Chamfer 0.0175; official 227 s, 0.0219)")
+      .Choice("on_sign_conflict", "warn", {"warn", "error", "ignore"},
+              "positive and negative spheres that overlap (not an SDF; noisy SDFs, Fig. 23, have some): "
+              "warn and go on, fail the case, or say nothing");
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
     if (!d.registry) throw Error("rfta: needs the case's registry");
     const Registry& reg = *d.registry;
@@ -45,6 +49,23 @@ void RegisterRfta(Registry& r) {
     ft.Set("max_points_per_sphere", p.GetInt("max_points_per_sphere"));
     ft.Set("batch_size", p.GetInt("batch_size"));
     ft.Set("reconstructor", p.Get("tuning_reconstructor"));
+    {
+      const SdfSamples& samples = d.RequireSamples("rfta");
+      CheckRftaSamples(samples, "rfta");
+      const SignedSpheres spheres = SplitSpheresBySign(samples, SignSplitOptions{});
+      RequireBothSigns(spheres, "rfta");
+      double depth = 0;
+      const std::int64_t conflicts = CountSignConflicts(spheres, 1e-4, &depth);
+      d.SetMetric("rfta_sign_conflicts", static_cast<double>(conflicts));
+      if (conflicts > 0 && p.GetString("on_sign_conflict") != "ignore") {
+        const std::string msg = "rfta: " + std::to_string(conflicts) + " of " + std::to_string(spheres.positive.Size()) +
+                                " outside spheres overlap inside spheres (deepest overlap " +
+                                std::to_string(depth * spheres.frame.scale) +
+                                "): the samples are not a consistent SDF";
+        if (p.GetString("on_sign_conflict") == "error") throw Error(msg);
+        ctx.Warn(msg + "; going on (set on_sign_conflict: error to refuse such input)");
+      }
+    }
     timed("rfta_sampler_s", p.GetStage("sampler"));
     timed("rfta_projector_s", StageSpec{"arc_projector", reg.Resolve("arc_projector", proj)});
     timed("rfta_fine_tune_s", StageSpec{"fine_tune", reg.Resolve("fine_tune", ft)});

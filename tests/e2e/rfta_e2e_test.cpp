@@ -69,7 +69,19 @@ TEST(RftaE2e, BadInputGivesClearErrors) {
   const auto ragged = run("ragged.txt", "0 0 0 -0.5\n1 0 0\n");
   EXPECT_EQ(ragged.code, 1);
   EXPECT_NE(ragged.output.find("ragged.txt:2"), std::string::npos) << ragged.output;
-  for (const auto* r : {&all_pos, &all_neg, &nan, &single, &ragged})
+  // Inside and outside spheres that intersect: not an SDF. Refused on
+  // request; by default a warning and the run goes on (noisy SDFs overlap).
+  const std::string conflict = "0 0 0 -0.5\n0.1 0 0 0.5\n1 1 1 0.3\n0.5 0.5 0.5 -0.1\n";
+  testing::WriteFile(dir / "conflict.txt", conflict);
+  const auto strict = RunCmd(Arcs() + " reconstruct " + (dir / "conflict.txt").string() + " " +
+                             (dir / "out.ply").string() + " --param on_sign_conflict=error");
+  EXPECT_EQ(strict.code, 1);
+  EXPECT_NE(strict.output.find("not a consistent SDF"), std::string::npos) << strict.output;
+  const auto lenient = RunCmd(Arcs() + " reconstruct " + (dir / "conflict.txt").string() + " " +
+                              (dir / "out.ply").string());
+  EXPECT_NE(lenient.output.find("not a consistent SDF"), std::string::npos) << lenient.output;
+  EXPECT_TRUE(lenient.code == 0 || lenient.output.find("arcs: error") != std::string::npos) << lenient.output;
+  for (const auto* r : {&all_pos, &all_neg, &nan, &single, &ragged, &strict, &lenient})
     EXPECT_EQ(r->output.find("Segmentation"), std::string::npos) << r->output;
 }
 
