@@ -3,6 +3,11 @@
 // pcl::PointNormal; never impl/poisson.hpp, which takes ~46 s to compile.
 #include "framework/reconstruct/poisson_pcl.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+
 #include "framework/error.h"
 
 #include <algorithm>
@@ -16,6 +21,32 @@
 #include <exception>
 #include <mutex>
 #endif
+
+namespace {
+// Redirects fd 1 to /dev/null while alive.
+class StdoutSilencer {
+ public:
+  StdoutSilencer() {
+    std::fflush(stdout);
+    saved_ = ::dup(1);
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, 1);
+    if (null >= 0) ::close(null);
+  }
+  ~StdoutSilencer() {
+    std::fflush(stdout);
+    if (saved_ >= 0) {
+      ::dup2(saved_, 1);
+      ::close(saved_);
+    }
+  }
+  StdoutSilencer(const StdoutSilencer&) = delete;
+  StdoutSilencer& operator=(const StdoutSilencer&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+}  // namespace
 
 namespace arcs::poisson_detail {
 
@@ -71,6 +102,11 @@ Mesh RunPclPoisson(const std::vector<float>& xyz, const std::vector<float>& norm
   try {
     // performReconstruction directly: reconstruct() would also build a
     // kd-tree over the input that Poisson never uses.
+    // PCL's PoissonRecon port prints diagnostics ("Vertex pair not in list")
+    // with printf; stdout belongs to arcs' own results, so it is silenced for
+    // the call (calls are serialised by the lock above; arcs writes nothing to
+    // stdout from other threads meanwhile).
+    StdoutSilencer silence;
     poisson.performReconstruction(out_points, polygons);
   } catch (const std::exception& e) {
     throw Error(std::string("screened Poisson: PCL failed: ") + e.what());
