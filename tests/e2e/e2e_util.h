@@ -2,6 +2,7 @@
 #pragma once
 
 #include "framework/experiment/csv.h"
+#include "tests/test_util.h"
 
 #include <array>
 #include <cstdio>
@@ -30,8 +31,6 @@ inline CmdResult RunCmd(const std::string& cmd) {
 }
 
 inline std::string Arcs() { return std::string("'") + ARCS_EXE + "'"; }
-
-inline void WriteFile(const std::filesystem::path& p, const std::string& text) { std::ofstream(p) << text; }
 
 inline std::string ReadFile(const std::filesystem::path& p) {
   std::ifstream in(p);

@@ -18,10 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void WriteFile(const fs::path& p, const std::string& bytes) {
-  std::ofstream f(p, std::ios::binary);
-  f << bytes;
-}
+using testing::WriteFile;
 
 // Runs f, expecting an InputError whose message is "FILE:LINE: ..." and
 // contains `what`.

@@ -16,10 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void WriteFile(const fs::path& p, const std::string& bytes) {
-  std::ofstream f(p, std::ios::binary);
-  f << bytes;
-}
+using testing::WriteFile;
 
 std::string ReadFile(const fs::path& p) {
   std::ifstream f(p, std::ios::binary);

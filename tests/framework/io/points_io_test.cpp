@@ -16,22 +16,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void WriteFile(const fs::path& p, const std::string& bytes) {
-  std::ofstream f(p, std::ios::binary);
-  f << bytes;
-}
+using testing::WriteFile;
 
-template <class F>
-void ExpectError(F&& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no exception";
-  } catch (const InputError& e) {
-    for (const auto& p : parts) EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "wrong exception type: " << e.what();
-  }
-}
 
 template <class T>
 void PutLE(std::string* s, T v) {
@@ -71,7 +57,7 @@ TEST(PointsIoTest, RoundTripsAreExact) {
     }
   }
   EXPECT_THROW(WritePointCloud((dir / "nodir" / "c.xyz").string(), Cloud(true)), Error);
-  ExpectError([&] { WritePointCloud((dir / "c.las").string(), Cloud(false)); }, {".ply .xyz"});
+  testing::ExpectInputError([&] { WritePointCloud((dir / "c.las").string(), Cloud(false)); }, {".ply .xyz"});
 }
 
 TEST(PointsIoTest, XyzSkipsAndReportsMalformedLines) {
@@ -104,7 +90,7 @@ TEST(PointsIoTest, XyzSkipsAndReportsMalformedLines) {
 
   const std::string none = (dir / "c.xyz").string();
   WriteFile(none, "# nothing\nhello world\n1 2\n");
-  ExpectError([&] { ReadPointCloud(none); }, {none + ":2:", "no valid point line"});
+  testing::ExpectInputError([&] { ReadPointCloud(none); }, {none + ":2:", "no valid point line"});
 }
 
 TEST(PointsIoTest, PlyPointsWithNormalsFacesIgnoredNonFiniteSkipped) {
@@ -144,7 +130,7 @@ TEST(PointsIoTest, PlyPointsWithNormalsFacesIgnoredNonFiniteSkipped) {
 
   const std::string cut = (dir / "cut.ply").string();
   WriteFile(cut, b.substr(0, b.size() - 4));
-  ExpectError([&] { ReadPointCloud(cut); }, {cut + ":3:", "claims 3 entries"});
+  testing::ExpectInputError([&] { ReadPointCloud(cut); }, {cut + ":3:", "claims 3 entries"});
 }
 
 TEST(PointsIoTest, PcdAsciiAndBinary) {
@@ -189,27 +175,27 @@ TEST(PointsIoTest, PcdAsciiAndBinary) {
   // Errors.
   const std::string c = (dir / "c.pcd").string();
   WriteFile(c, header + "DATA binary_compressed\n\x01\x02");
-  ExpectError([&] { ReadPointCloud(c); }, {c + ":11:", "unsupported"});
+  testing::ExpectInputError([&] { ReadPointCloud(c); }, {c + ":11:", "unsupported"});
   const std::string d = (dir / "d.pcd").string();
   WriteFile(d, b.substr(0, b.size() - 1));
-  ExpectError([&] { ReadPointCloud(d); }, {d + ": offset " + std::to_string(h), "shorter"});
+  testing::ExpectInputError([&] { ReadPointCloud(d); }, {d + ": offset " + std::to_string(h), "shorter"});
   const std::string lie = (dir / "lie.pcd").string();
   std::string lying = header + "DATA ascii\n0 0 0 0 0 0 1 0\n";
   lying.replace(lying.find("POINTS 3"), 8, "POINTS 1000000000000");
   WriteFile(lie, lying);
-  ExpectError([&] { ReadPointCloud(lie); }, {lie + ":12:", "expected 1000000000000 points, found 1"});
+  testing::ExpectInputError([&] { ReadPointCloud(lie); }, {lie + ":12:", "expected 1000000000000 points, found 1"});
   const std::string shortf = (dir / "short.pcd").string();
   WriteFile(shortf, header + "DATA ascii\n0 0 0 0 0 0 1 0\n1 1 1 0 0 0 1\n");
-  ExpectError([&] { ReadPointCloud(shortf); }, {shortf + ":13:", "expected 8 values"});
+  testing::ExpectInputError([&] { ReadPointCloud(shortf); }, {shortf + ":13:", "expected 8 values"});
   const std::string noxyz = (dir / "noxyz.pcd").string();
   WriteFile(noxyz, "FIELDS a b c\nSIZE 4 4 4\nTYPE F F F\nPOINTS 0\nDATA ascii\n");
-  ExpectError([&] { ReadPointCloud(noxyz); }, {noxyz + ":1:", "x, y and z"});
+  testing::ExpectInputError([&] { ReadPointCloud(noxyz); }, {noxyz + ":1:", "x, y and z"});
 }
 
 TEST(PointsIoTest, UnknownExtensionAndMissingFile) {
   const auto dir = testing::TempDir("points_io_misc");
-  ExpectError([&] { ReadPointCloud((dir / "a.las").string()); }, {"a.las", ".ply .xyz"});
-  ExpectError([&] { ReadPointCloud((dir / "a.xyz").string()); }, {"a.xyz", "cannot open"});
+  testing::ExpectInputError([&] { ReadPointCloud((dir / "a.las").string()); }, {"a.las", ".ply .xyz"});
+  testing::ExpectInputError([&] { ReadPointCloud((dir / "a.xyz").string()); }, {"a.xyz", "cannot open"});
 }
 
 // ---- shared data ------------------------------------------------------------

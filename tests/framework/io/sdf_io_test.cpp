@@ -14,23 +14,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void WriteFile(const fs::path& p, const std::string& bytes) {
-  std::ofstream f(p, std::ios::binary);
-  f << bytes;
-}
+using testing::WriteFile;
 
-// Expects an InputError containing every string in `parts`.
-template <class F>
-void ExpectError(F&& f, const std::vector<std::string>& parts) {
-  try {
-    f();
-    ADD_FAILURE() << "no exception";
-  } catch (const InputError& e) {
-    for (const auto& p : parts) EXPECT_NE(std::string(e.what()).find(p), std::string::npos) << e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "wrong exception type: " << e.what();
-  }
-}
 
 // numpy.linspace(a, b, n)[i] as numpy computes it.
 double Lin(double a, double b, int n, int i) {
@@ -102,11 +87,11 @@ TEST(SdfIoTest, BoundsSidecarOverridesDefaultsAndWriteReadRoundTrips) {
   EXPECT_EQ(ReadNpy(out).shape, (std::vector<std::int64_t>{2, 3, 2}));
 
   WriteFile(SdfBoundsPath(path), "0 0 0 1 2\n");
-  ExpectError([&] { ReadSdfGrid(path); }, {SdfBoundsPath(path), "found 5 numbers"});
+  testing::ExpectInputError([&] { ReadSdfGrid(path); }, {SdfBoundsPath(path), "found 5 numbers"});
   WriteFile(SdfBoundsPath(path), "0 0 0\n1 nan 3\n");
-  ExpectError([&] { ReadSdfGrid(path); }, {SdfBoundsPath(path) + ":2:", "bad bound"});
+  testing::ExpectInputError([&] { ReadSdfGrid(path); }, {SdfBoundsPath(path) + ":2:", "bad bound"});
   WriteFile(SdfBoundsPath(path), "0 0 0 1 0 3\n");
-  ExpectError([&] { ReadSdfGrid(path); }, {path, "min < max on axis 1"});
+  testing::ExpectInputError([&] { ReadSdfGrid(path); }, {path, "min < max on axis 1"});
 }
 
 TEST(SdfIoTest, Grid2d) {
@@ -137,9 +122,9 @@ TEST(SdfIoTest, GridRejectsNonFiniteValuesAndBadShapes) {
   std::vector<double> v(2 * 2 * 2, 0.5);
   v[(1 * 2 + 0) * 2 + 1] = std::nan("");
   WriteNpy(path, v.data(), {2, 2, 2});
-  ExpectError([&] { ReadSdfGrid(path); }, {path, "grid index (1, 0, 1)", "not finite"});
+  testing::ExpectInputError([&] { ReadSdfGrid(path); }, {path, "grid index (1, 0, 1)", "not finite"});
   WriteNpy(path, v.data(), {8});
-  ExpectError([&] { ReadSdfGrid(path); }, {path, "(nx, ny, nz) or (nx, ny)", "(8,)"});
+  testing::ExpectInputError([&] { ReadSdfGrid(path); }, {path, "(nx, ny, nz) or (nx, ny)", "(8,)"});
 }
 
 TEST(SdfIoTest, ScatteredPairAndErrors) {
@@ -165,13 +150,13 @@ TEST(SdfIoTest, ScatteredPairAndErrors) {
   EXPECT_EQ(s2.points(2, 1), P[5]);
 
   WriteNpy(vp, V.data(), {2});
-  ExpectError([&] { ReadSdfScattered(pp, vp); }, {vp, pp, "has 2 values", "has 3 points"});
+  testing::ExpectInputError([&] { ReadSdfScattered(pp, vp); }, {vp, pp, "has 2 values", "has 3 points"});
   std::vector<double> W = V;
   W[1] = -INFINITY;
   WriteNpy(vp, W.data(), {3});
-  ExpectError([&] { ReadSdfScattered(pp, vp); }, {vp, "sample 1", "not finite"});
+  testing::ExpectInputError([&] { ReadSdfScattered(pp, vp); }, {vp, "sample 1", "not finite"});
   WriteNpy(pp, P.data(), {9});
-  ExpectError([&] { ReadSdfScattered(pp, vp); }, {pp, "(N, 3) or (N, 2)"});
+  testing::ExpectInputError([&] { ReadSdfScattered(pp, vp); }, {pp, "(N, 3) or (N, 2)"});
 }
 
 TEST(SdfIoTest, TextReadWriteAndErrors) {
@@ -219,7 +204,7 @@ TEST(SdfIoTest, TextReadWriteAndErrors) {
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const std::string p = (dir / ("bad" + std::to_string(i) + ".txt")).string();
     WriteFile(p, cases[i].body);
-    ExpectError([&] { ReadSdfText(p); }, {p + cases[i].where, cases[i].what});
+    testing::ExpectInputError([&] { ReadSdfText(p); }, {p + cases[i].where, cases[i].what});
   }
 }
 
@@ -257,14 +242,14 @@ TEST(SdfIoTest, ReadSdfDispatchRule) {
   // Other shapes and extensions: errors that explain.
   const std::string p1 = (dir / "one.npy").string();
   WriteNpy(p1, a.data(), {8});
-  ExpectError([&] { ReadSdf(p1); }, {p1, "(8,)", "(nx, ny, nz)", "(N, 4)"});
+  testing::ExpectInputError([&] { ReadSdf(p1); }, {p1, "(8,)", "(nx, ny, nz)", "(N, 4)"});
   const std::string vtk = (dir / "x.vtk").string();
   WriteFile(vtk, "");
-  ExpectError([&] { ReadSdf(vtk); }, {vtk, ".npy, .txt"});
+  testing::ExpectInputError([&] { ReadSdf(vtk); }, {vtk, ".npy, .txt"});
   std::vector<double> bad = a;
   bad[6] = std::nan("");
   WriteNpy(p4, bad.data(), {2, 4});
-  ExpectError([&] { ReadSdf(p4); }, {p4, "sample 1", "non-finite"});
+  testing::ExpectInputError([&] { ReadSdf(p4); }, {p4, "sample 1", "non-finite"});
 }
 
 }  // namespace
