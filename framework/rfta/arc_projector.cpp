@@ -348,6 +348,7 @@ ArcProjection ProjectToArcs(const SdfSamples& samples, const FreeSpaceSamples& f
   MatrixX3d point(N, 3);
   std::vector<std::uint8_t> fate(N, 0);
   Rng batch_rng = ctx.MakeRng("arc_projector/batch");
+  int signs_without_free = 0;
   for (int si = 0; si < 2; ++si) {
     const int sign = si == 0 ? 1 : -1;
     const SphereSet& set = sp.Get(sign);
@@ -363,9 +364,17 @@ ArcProjection ProjectToArcs(const SdfSamples& samples, const FreeSpaceSamples& f
       if (!u.allFinite()) throw Error("arc_projector: free point " + std::to_string(j) + " is not finite");
       F.row(w++) = u.transpose();
     }
-    if (nf == 0)
-      throw Error(std::string("arc_projector: no free-space samples for the ") + name +
-                  " spheres (the empty-space sampler found none)");
+    if (nf == 0) {
+      // A coarse grid of a thin shape can leave one sign's spheres without
+      // any free cell: they get no initial point here (fine-tuning gives them
+      // a second chance); only when both signs have none is it an error.
+      if (set.Size() > 0) {
+        ++signs_without_free;
+        ctx.Warn(std::string("arc_projector: no free-space samples for the ") + name +
+                 " spheres; they start without tangency points");
+      }
+      continue;
+    }
     const std::vector<int> members = DrawBatch(set.Size(), o.batch_size, batch_rng);
     st.batch[si] = static_cast<std::int64_t>(members.size());
     const SphereTree tree(set.centers, set.radii, set.sample, &members);
@@ -435,6 +444,8 @@ ArcProjection ProjectToArcs(const SdfSamples& samples, const FreeSpaceSamples& f
         8);
     ctx.CheckStop();
   }
+  if (signs_without_free == 2)
+    throw Error("arc_projector: the empty-space sampler found no free-space samples for either sign");
 
   std::int64_t count = 0;
   for (std::int64_t s = 0; s < N; ++s) {

@@ -211,9 +211,20 @@ TEST(ArcProjector, BadInputsThrow) {
   one.points = MatrixXd::Constant(1, 3, 0.1);
   one.values = VectorXd::Constant(1, 0.2);
   EXPECT_THROW(ProjectToArcs(one, f, ArcProjectorOptions(), ctx), Error);
+  // Free points for one sign only (a thin shape on a coarse grid): that
+  // sign's spheres start without points, with a warning; none at all: error.
   FreeSpaceSamples only_pos = f;
   for (auto& v : only_pos.sign) v = 1;
-  EXPECT_THROW(ProjectToArcs(s, only_pos, ArcProjectorOptions(), ctx), Error);
+  std::vector<std::string> warnings;
+  Context warn_ctx;
+  warn_ctx.set_log([&](LogLevel, const std::string& m) { warnings.push_back(m); });
+  const ArcProjection half = ProjectToArcs(s, only_pos, ArcProjectorOptions(), warn_ctx);
+  ASSERT_GT(half.points.Size(), 0);
+  for (int i : half.sample) EXPECT_GT(s.values[i], 0.0) << "only positive spheres can have points";
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("negative"), std::string::npos) << warnings[0];
+  FreeSpaceSamples no_free;
+  EXPECT_THROW(ProjectToArcs(s, no_free, ArcProjectorOptions(), ctx), Error);
   FreeSpaceSamples bad_signs = f;
   bad_signs.sign.pop_back();
   EXPECT_THROW(ProjectToArcs(s, bad_signs, ArcProjectorOptions(), ctx), Error);
