@@ -152,15 +152,6 @@ double LoadValue(const char* p, const Dtype& t) {
   }
 }
 
-std::string ShapeString(const std::vector<std::int64_t>& shape) {
-  std::string s = "(";
-  for (std::size_t i = 0; i < shape.size(); ++i) {
-    if (i) s += ", ";
-    s += std::to_string(shape[i]);
-  }
-  if (shape.size() == 1) s += ",";
-  return s + ")";
-}
 
 template <class T>
 void WriteNpyImpl(const std::string& path, const T* data, const std::vector<std::int64_t>& shape,
@@ -171,7 +162,7 @@ void WriteNpyImpl(const std::string& path, const T* data, const std::vector<std:
     n *= d;
   }
   std::string dict = std::string("{'descr': '") + descr +
-                     "', 'fortran_order': False, 'shape': " + ShapeString(shape) + ", }";
+                     "', 'fortran_order': False, 'shape': " + NpyShapeString(shape) + ", }";
   // Pad with spaces and a final '\n' so that the data starts on a 64-byte
   // boundary (what numpy does); version 2.0 when the header exceeds 64 KiB.
   std::size_t pre = 10;
@@ -274,7 +265,7 @@ NpyArray ReadNpy(const std::string& path) {
   }
   if (n == UINT64_MAX || n > avail / static_cast<std::uint64_t>(dt.size))
     ThrowAtOffset(path, data_start,
-                  "data shorter than the shape says: shape " + ShapeString(arr.shape) + " of '" +
+                  "data shorter than the shape says: shape " + NpyShapeString(arr.shape) + " of '" +
                       descr + "' needs " +
                       (n == UINT64_MAX ? std::string("more") : std::to_string(n * dt.size)) +
                       " bytes, the file has " + std::to_string(avail) + " after the header");
@@ -315,6 +306,16 @@ void WriteNpy(const std::string& path, const double* data, const std::vector<std
 
 void WriteNpy(const std::string& path, const float* data, const std::vector<std::int64_t>& shape) {
   WriteNpyImpl<float>(path, data, shape, "<f4");
+}
+
+std::string NpyShapeString(const std::vector<std::int64_t>& shape) {
+  std::string s = "(";
+  for (std::size_t i = 0; i < shape.size(); ++i) {
+    if (i) s += ", ";
+    s += std::to_string(shape[i]);
+  }
+  if (shape.size() == 1) s += ",";
+  return s + ")";
 }
 
 }  // namespace arcs

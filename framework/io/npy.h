@@ -34,4 +34,7 @@ NpyArray ReadNpy(const std::string& path);
 void WriteNpy(const std::string& path, const double* data, const std::vector<std::int64_t>& shape);
 void WriteNpy(const std::string& path, const float* data, const std::vector<std::int64_t>& shape);
 
+// A shape as numpy prints it: "(3,)", "(4, 5)".
+std::string NpyShapeString(const std::vector<std::int64_t>& shape);
+
 }  // namespace arcs

@@ -12,15 +12,6 @@ namespace {
 
 using namespace io_internal;
 
-std::string ShapeString(const std::vector<std::int64_t>& shape) {
-  std::string s = "(";
-  for (std::size_t i = 0; i < shape.size(); ++i) {
-    if (i) s += ", ";
-    s += std::to_string(shape[i]);
-  }
-  if (shape.size() == 1) s += ",";
-  return s + ")";
-}
 
 bool FileExists(const std::string& path) {
   std::error_code ec;
@@ -77,10 +68,10 @@ SdfSamples GridFromArray(const std::string& path, const NpyArray& arr, std::arra
   if (dim != 2 && dim != 3)
     throw InputError(path, 0,
                      "grid values must have shape (nx, ny, nz) or (nx, ny), got " +
-                         ShapeString(arr.shape));
+                         NpyShapeString(arr.shape));
   for (std::int64_t d : arr.shape) {
     if (d < 1 || d > INT_MAX)
-      throw InputError(path, 0, "grid shape " + ShapeString(arr.shape) + " has an empty or huge axis");
+      throw InputError(path, 0, "grid shape " + NpyShapeString(arr.shape) + " has an empty or huge axis");
   }
   std::string bounds_origin = "the default bounds";
   const std::string sidecar = SdfBoundsPath(path);
@@ -219,10 +210,10 @@ SdfSamples ReadSdfScattered(const std::string& points_npy, const std::string& va
   const NpyArray V = ReadNpy(values_npy);
   if (P.Ndim() != 2 || (P.shape[1] != 2 && P.shape[1] != 3))
     throw InputError(points_npy, 0,
-                     "points must have shape (N, 3) or (N, 2), got " + ShapeString(P.shape));
+                     "points must have shape (N, 3) or (N, 2), got " + NpyShapeString(P.shape));
   if (!(V.Ndim() == 1 || (V.Ndim() == 2 && V.shape[1] == 1)))
     throw InputError(values_npy, 0,
-                     "values must have shape (N,) or (N, 1), got " + ShapeString(V.shape));
+                     "values must have shape (N,) or (N, 1), got " + NpyShapeString(V.shape));
   if (P.shape[0] != V.shape[0])
     throw InputError(values_npy, 0,
                      "has " + std::to_string(V.shape[0]) + " values but '" + points_npy +
@@ -313,7 +304,7 @@ SdfSamples ReadSdf(const std::string& path) {
     return GridFromArray(path, arr, {-1, -1, -1}, {1, 1, 1});
   }
   throw InputError(path, 0,
-                   "cannot tell the SDF layout of an array of shape " + ShapeString(arr.shape) +
+                   "cannot tell the SDF layout of an array of shape " + NpyShapeString(arr.shape) +
                        ": expected (nx, ny, nz) for a 3D grid, (N, 4) for 3D samples 'x y z s', "
                        "(N, 3) for 2D samples 'x y s', or (nx, ny) for a 2D grid");
 }

@@ -236,17 +236,26 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           return Transport(p, target, c, r, options.tau, options.halvings, tree, options.tol, g,
                            options.jump_when_blocked, local);
         };
+        // A sphere without a point gets q if feasible ("second chance");
+        // otherwise its point closest to q moves towards q. Returns that
+        // point's index, or mine.size() for a second chance.
+        auto second_chance_or_move_closest = [&]() -> size_t {
+          if (mine.empty()) {
+            cand.push_back(q);
+            second[g] = 1;
+            return 0;
+          }
+          const size_t k0 = closest_to(q);
+          cand.push_back(transport(mine[k0], q));
+          return k0;
+        };
         if (r <= options.tol) {
           kind[g] = 3;
           cand = mine;
         } else if (d < r - options.tol) {  // the surface cuts into the sphere
           kind[g] = 1;
-          if (mine.empty()) {
-            cand.push_back(q);
-            second[g] = 1;
-          } else {
-            const size_t k0 = closest_to(q);
-            cand.push_back(transport(mine[k0], q));
+          second_chance_or_move_closest();
+          if (!mine.empty()) {
             if (options.max_points_per_sphere > 1) {
               // Every existing point moves towards the projection of its own
               // closest surface point; ordered by distance to the surface.
@@ -267,12 +276,8 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           }
         } else if (d > r + options.tol) {  // the surface misses the sphere
           kind[g] = 2;
-          if (mine.empty()) {
-            cand.push_back(q);
-            second[g] = 1;
-          } else {
-            const size_t k0 = closest_to(q);
-            cand.push_back(transport(mine[k0], q));
+          const size_t k0 = second_chance_or_move_closest();
+          if (!mine.empty()) {
             if (options.keep_points_when_missed)
               for (size_t k = 0; k < mine.size(); ++k)
                 if (k != k0) cand.push_back(mine[k]);
