@@ -15,6 +15,8 @@
 #include "registry/plugin.h"
 #include "registry/plugin_api.h"
 #include "stages/builtin.h"
+#include "app/cli.h"
+#include "app/commands.h"
 
 #include <chrono>
 #include <cstdio>
@@ -28,6 +30,7 @@
 
 namespace fs = std::filesystem;
 using namespace arcs;
+using namespace arcs::cli;
 
 namespace {
 
@@ -51,69 +54,15 @@ commands:
                              SDF samples (grid .npy, (N,d+1) .npy, text) -> mesh OUT;
                              method: rfta (default), marching_cubes, or any sdf_to_mesh stage
   shape NAME OUT             write a built-in shape (sphere, torus, knot, two_tori)
+  voxelize MESH OUT.npy [options]
+                             winding-number occupancy grid of MESH (`arcs voxelize --help`)
+  morph SOURCE TARGET OUT [options]
+                             deform SOURCE mesh to match TARGET's occupancy (`arcs morph --help`)
   version                    version, build and plugin API
 
 global options:
   --plugin FILE              load a plugin (also: $ARCS_PLUGIN_PATH, or `plugins:` in YAML)
 )";
-
-[[noreturn]] void Usage(const std::string& msg) {
-  std::fprintf(stderr, "arcs: %s\n(run `arcs --help` for usage)\n", msg.c_str());
-  std::exit(2);
-}
-
-struct Args {
-  std::vector<std::string> positional;
-  std::vector<std::pair<std::string, std::string>> options;  // --key value (value "" for flags)
-  bool Has(const std::string& k) const {
-    for (const auto& [a, b] : options)
-      if (a == k) return true;
-    return false;
-  }
-  std::string Get(const std::string& k, const std::string& def = "") const {
-    for (const auto& [a, b] : options)
-      if (a == k) return b;
-    return def;
-  }
-  std::vector<std::string> All(const std::string& k) const {
-    std::vector<std::string> out;
-    for (const auto& [a, b] : options)
-      if (a == k) out.push_back(b);
-    return out;
-  }
-};
-
-Args Parse(int argc, char** argv, int start, const std::vector<std::string>& with_value,
-           const std::vector<std::string>& flags) {
-  Args a;
-  for (int i = start; i < argc; ++i) {
-    std::string s = argv[i];
-    if (s.rfind("--", 0) == 0) {
-      std::string key = s, val;
-      const size_t eq = s.find('=');
-      if (eq != std::string::npos && std::find(with_value.begin(), with_value.end(), s.substr(0, eq)) != with_value.end()) {
-        key = s.substr(0, eq);
-        val = s.substr(eq + 1);
-      } else if (std::find(with_value.begin(), with_value.end(), key) != with_value.end()) {
-        if (i + 1 >= argc) Usage("option " + key + " needs a value");
-        val = argv[++i];
-      } else if (std::find(flags.begin(), flags.end(), key) == flags.end()) {
-        Usage("unknown option " + key);
-      }
-      a.options.emplace_back(key, val);
-    } else {
-      a.positional.push_back(s);
-    }
-  }
-  return a;
-}
-
-int ParseInt(const std::string& s, const std::string& what) {
-  char* end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end) Usage(what + " must be an integer, got '" + s + "'");
-  return static_cast<int>(v);
-}
 
 void LoadPlugins(Registry& registry, const Args& args) {
   if (const char* path = std::getenv("ARCS_PLUGIN_PATH"))
@@ -367,6 +316,8 @@ int main(int argc, char** argv) {
       return CmdReconstruct(registry, a);
     }
     if (cmd == "shape") return CmdShape(Parse(argc, argv, 2, {}, {}));
+    if (cmd == "voxelize") return CmdVoxelize(registry, argc, argv);
+    if (cmd == "morph") return CmdMorph(registry, argc, argv);
     if (cmd == "version") {
       std::printf("arcs 0.1.0 (git %s, %s build, plugin API %d)\n", GitRevision(), BuildType(), ARCS_PLUGIN_API_VERSION);
       return 0;

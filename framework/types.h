@@ -69,4 +69,23 @@ struct SdfSamples {
   std::int64_t Size() const { return values.size(); }
 };
 
+// A set of closed (or open) 2D polylines: the 2D counterpart of Mesh. V holds
+// the vertices with z = 0; each row of E is a directed edge (a, b). Closed
+// curves are oriented counter-clockwise around the inside (the inside lies to
+// the left of every edge), as mesh faces are wound outward.
+struct Polyline {
+  MatrixX3d V;
+  Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> E;
+  int NumVertices() const { return static_cast<int>(V.rows()); }
+  int NumEdges() const { return static_cast<int>(E.rows()); }
+  bool Empty() const { return E.rows() == 0; }
+};
+
+// Values on the nodes of a regular grid (layout and order of GridInfo): an
+// occupancy or winding-number volume (voxelizers), a 2D/3D scalar field.
+struct VolumeGrid {
+  GridInfo info;
+  VectorXd values;  // info.NumNodes() entries, x fastest
+};
+
 }  // namespace arcs

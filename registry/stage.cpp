@@ -18,6 +18,8 @@ constexpr RoleEntry kRoles[] = {
     {Role::kFineTuner, "fine_tuner"},
     {Role::kReconstructor, "reconstructor"},
     {Role::kVoxelizer, "voxelizer"},
+    {Role::kPointSampler, "point_sampler"},
+    {Role::kPointModifier, "point_modifier"},
     {Role::kEvaluator, "evaluator"},
     {Role::kOther, "other"},
 };

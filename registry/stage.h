@@ -27,6 +27,8 @@ enum class Role {
   kFineTuner,           // oriented points -> oriented points
   kReconstructor,       // oriented points -> output mesh
   kVoxelizer,           // mesh -> occupancy grid
+  kPointSampler,        // reference mesh -> point cloud (input generation)
+  kPointModifier,       // point cloud -> point cloud (noise, outliers, normal estimation)
   kEvaluator,           // output (+ reference, samples) -> metrics
   kOther,
 };
@@ -56,6 +58,12 @@ struct CaseData {
   // row of `points` (empty when not applicable).
   std::vector<int> point_sample;
   std::optional<Mesh> output;        // the method's output mesh
+  // 2D cases (dim 2): the reference curve and the method's output curve,
+  // the planar counterparts of `reference` and `output`.
+  std::optional<Polyline> reference_curve;
+  std::optional<Polyline> output_curve;
+  // A voxelizer's output (occupancy or winding numbers on grid nodes).
+  std::optional<VolumeGrid> volume;
   // Metrics and facts in insertion order; the runner writes them as columns.
   std::vector<std::pair<std::string, double>> metrics;
 

@@ -10,10 +10,11 @@
 #   libgtest-dev               the test suite
 #   libcgal-dev libembree-dev  only for bench/spatial_bench (closest-point comparison)
 #   libpcl-dev                 screened Poisson reconstruction (pcl::Poisson; optional, ARCS_WITH_PCL)
+#   libopen3d-dev              ball pivoting (Open3D's CreateFromPointCloudBallPivoting; optional, ARCS_WITH_OPEN3D)
 set -euo pipefail
 
 PACKAGES=(cmake g++ make pkg-config ccache libeigen3-dev libyaml-cpp-dev libtbb-dev libnanoflann-dev
-          libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev)
+          libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev libopen3d-dev)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

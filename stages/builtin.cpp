@@ -20,6 +20,15 @@ void RegisterBuiltinStages(Registry& r) {
   RegisterRfta(r);
   // Surface reconstructors (oriented points -> mesh).
   RegisterScreenedPoisson(r);
+  RegisterGraphVoronoi(r);
+  RegisterPointReconstructors(r);
+  // Point-cloud inputs.
+  RegisterPointInputStages(r);
+  // Voxelization and morphing.
+  RegisterVoxelStages(r);
+  RegisterMorphStages(r);
+  // 2D.
+  RegisterPlanarStages(r);
   // Evaluators.
   RegisterEvalStages(r);
 }

@@ -27,5 +27,15 @@ void RegisterArcProjector(Registry& r);
 // RFTA: fine-tuning and the whole method as one stage (stages/rfta/).
 void RegisterFineTune(Registry& r);
 void RegisterRfta(Registry& r);
+// Winding-number voxelization and mesh morphing (stages/voxel/).
+void RegisterVoxelStages(Registry& r);
+void RegisterMorphStages(Registry& r);
+// Point clouds: inputs (sampling, noise, normal estimation) and the
+// point-cloud reconstructors (stages/points/).
+void RegisterPointInputStages(Registry& r);
+void RegisterGraphVoronoi(Registry& r);
+void RegisterPointReconstructors(Registry& r);
+// The 2D path of Reach for the Arcs (stages/planar/).
+void RegisterPlanarStages(Registry& r);
 
 }  // namespace arcs

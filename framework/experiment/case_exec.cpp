@@ -5,6 +5,7 @@
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"
+#include "framework/io/points_io.h"
 #include "framework/spatial/topology.h"
 #include "framework/util/parallel.h"
 
@@ -82,23 +83,43 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
   ctx.set_log(log);
   try {
     // 1. The dataset item.
-    if (c.item_path.rfind("shape:", 0) == 0) {
-      data.reference = MakeBuiltinShape(c.item_path.substr(6));
+    NormalizeOptions no;
+    no.center = c.normalize.center;
+    no.longest_side = c.normalize.longest_side;
+    no.random_rotation = c.normalize.random_rotation;
+    no.rotation_seed = static_cast<std::uint64_t>(c.normalize.rotation_seed);
+    if (c.kind == "points") {
+      PointReadReport report;
+      data.points = ReadPointCloud(c.item_path, &report);
+      if (!report.skipped_lines.empty())
+        ctx.Warn(c.item_path + ": skipped " + std::to_string(report.skipped_lines.size()) +
+                 " malformed line(s), first at line " + std::to_string(report.skipped_lines.front()));
+      for (const auto& w : report.warnings) ctx.Warn(c.item_path + ": " + w);
+      set("input_points", std::to_string(data.points->Size()));
+      if (!c.reference_path.empty()) data.reference = ReadMesh(c.reference_path);
+      if (c.normalize.enabled) {
+        const Similarity t = NormalizeTransform(data.points->P, no);
+        ApplySimilarity(t, &data.points->P);
+        if (data.points->HasNormals()) {
+          // Rotation only: normals are directions.
+          data.points->N = (data.points->N * t.rotation.transpose()).eval();
+        }
+        if (data.reference) *data.reference = ApplySimilarity(t, *data.reference);
+      }
     } else {
-      data.reference = ReadMesh(c.item_path);
+      if (c.item_path.rfind("shape:", 0) == 0) {
+        data.reference = MakeBuiltinShape(c.item_path.substr(6));
+      } else {
+        data.reference = ReadMesh(c.item_path);
+      }
+      if (c.normalize.enabled) Normalize(&*data.reference, no);
     }
-    if (c.normalize.enabled) {
-      NormalizeOptions no;
-      no.center = c.normalize.center;
-      no.longest_side = c.normalize.longest_side;
-      no.random_rotation = c.normalize.random_rotation;
-      no.rotation_seed = static_cast<std::uint64_t>(c.normalize.rotation_seed);
-      Normalize(&*data.reference, no);
+    if (data.reference) {
+      const Topology rt = ComputeTopology(*data.reference);
+      set("ref_faces", std::to_string(rt.faces));
+      set("ref_genus", std::to_string(rt.genus));
+      set("ref_closed", rt.closed ? "1" : "0");
     }
-    const Topology rt = ComputeTopology(*data.reference);
-    set("ref_faces", std::to_string(rt.faces));
-    set("ref_genus", std::to_string(rt.genus));
-    set("ref_closed", rt.closed ? "1" : "0");
 
     // 2. Input generation.
     const auto t1 = std::chrono::steady_clock::now();

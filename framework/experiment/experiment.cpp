@@ -600,11 +600,30 @@ Experiment LoadExperiment(const std::string& path, const std::vector<std::string
     for (size_t i = 0; i < ds.size(); ++i) {
       const std::string fld = "datasets[" + std::to_string(i) + "]";
       const YAML::Node d = ds[i];
-      CheckKeys(f, d, fld, {"name", "files", "shapes", "normalize"});
+      CheckKeys(f, d, fld, {"name", "kind", "files", "shapes", "reference", "normalize"});
       DatasetSpec spec;
       spec.name = d["name"] ? GetString(f, d["name"], fld + ".name") : "dataset" + std::to_string(i);
       if (!names.insert(spec.name).second) Fail(f, d, fld + ".name", "duplicate dataset name '" + spec.name + "'");
       if (!d["files"] && !d["shapes"]) Fail(f, d, fld, "needs 'files' (paths or globs) or 'shapes' (built-in shapes)");
+      if (d["kind"]) {
+        spec.kind = GetString(f, d["kind"], fld + ".kind");
+        if (spec.kind != "mesh" && spec.kind != "points")
+          Fail(f, d["kind"], fld + ".kind", "must be 'mesh' (files are meshes) or 'points' (files are point clouds), got '" + spec.kind + "'");
+      }
+      if (d["reference"]) {
+        if (spec.kind != "points")
+          Fail(f, d["reference"], fld + ".reference", "only a 'kind: points' dataset takes a reference mesh");
+        const std::string r = GetString(f, d["reference"], fld + ".reference");
+        try {
+          spec.reference = ResolvePath(r, base);
+        } catch (const Error& e) {
+          Fail(f, d["reference"], fld + ".reference", e.what());
+        }
+        if (!fs::exists(spec.reference))
+          Fail(f, d["reference"], fld + ".reference", "'" + r + "' does not exist (looked for " + spec.reference + ")");
+      }
+      if (d["shapes"] && spec.kind == "points")
+        Fail(f, d["shapes"], fld + ".shapes", "built-in shapes are meshes; a 'kind: points' dataset needs 'files'");
       if (d["files"]) {
         const auto pats = GetStringList(f, d["files"], fld + ".files");
         for (size_t j = 0; j < pats.size(); ++j) {
@@ -654,7 +673,7 @@ Experiment LoadExperiment(const std::string& path, const std::vector<std::string
   }
 
   if (doc["inputs"])
-    exp.inputs = DecodePipelines(f, doc["inputs"], "inputs", registry, {Role::kSdfSampler, Role::kSdfModifier});
+    exp.inputs = DecodePipelines(f, doc["inputs"], "inputs", registry, {Role::kSdfSampler, Role::kSdfModifier, Role::kPointSampler, Role::kPointModifier, Role::kVoxelizer});
   if (!doc["methods"]) Fail(f, doc, "methods", "missing: an experiment needs at least one method");
   exp.methods = DecodePipelines(f, doc["methods"], "methods", registry, {});
   if (doc["metrics"]) {
@@ -764,6 +783,8 @@ std::vector<Case> ExpandCases(const Experiment& exp, const Registry& registry) {
               c.item_path = file;
               c.item = file.rfind("shape:", 0) == 0 ? file.substr(6) : fs::path(file).stem().string();
               c.normalize = ds.normalize;
+              c.kind = ds.kind;
+              c.reference_path = ds.reference;
               c.input = in_name;
               c.input_stages = in_stages;
               c.method = m_name;
@@ -774,7 +795,7 @@ std::vector<Case> ExpandCases(const Experiment& exp, const Registry& registry) {
               AddParamColumns(m_stages, &c.params);
               const auto& nz = ds.normalize;
               const std::string key =
-                  "item=" + file + "|norm=" + std::to_string(nz.enabled) + "," + std::to_string(nz.longest_side) + "," +
+                  "item=" + file + (ds.kind == "points" ? "|points|ref=" + ds.reference : std::string()) + "|norm=" + std::to_string(nz.enabled) + "," + std::to_string(nz.longest_side) + "," +
                   std::to_string(nz.center) + "," + std::to_string(nz.random_rotation) + "," +
                   std::to_string(nz.rotation_seed) + "|input=" + in_name + ":" + CanonicalStages(in_stages) +
                   "|method=" + m_name + ":" + CanonicalStages(m_stages) + "|metrics=" + metric_key +

@@ -31,6 +31,12 @@ struct NormalizeSpec {
 
 struct DatasetSpec {
   std::string name;
+  // "mesh": each file is a mesh, loaded as the case's reference.
+  // "points": each file is a point cloud (PLY/XYZ/PWN/PCD), loaded as the
+  // case's points; `reference` (optional) is a mesh loaded as the reference,
+  // normalised with the points' transform.
+  std::string kind = "mesh";
+  std::string reference;
   std::vector<std::string> files;    // resolved, sorted; or "shape:<name>" for built-in shapes
   NormalizeSpec normalize;
 };
@@ -99,6 +105,8 @@ struct Case {
   std::string item;      // file stem or shape name
   std::string item_path; // file, or "shape:<name>"
   NormalizeSpec normalize;
+  std::string kind = "mesh";   // DatasetSpec::kind
+  std::string reference_path;  // points datasets: the reference mesh, if any
   std::string input;     // input pipeline name
   std::vector<StageSpec> input_stages;
   std::string method;

@@ -1,0 +1,79 @@
+// Command-line helpers shared by the `arcs` subcommands (app/*.cpp).
+#pragma once
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace arcs::cli {
+
+[[noreturn]] inline void Usage(const std::string& msg) {
+  std::fprintf(stderr, "arcs: %s\n(run `arcs --help` for usage)\n", msg.c_str());
+  std::exit(2);
+}
+
+struct Args {
+  std::vector<std::string> positional;
+  std::vector<std::pair<std::string, std::string>> options;  // --key value (value "" for flags)
+  bool Has(const std::string& k) const {
+    for (const auto& [a, b] : options)
+      if (a == k) return true;
+    return false;
+  }
+  std::string Get(const std::string& k, const std::string& def = "") const {
+    for (const auto& [a, b] : options)
+      if (a == k) return b;
+    return def;
+  }
+  std::vector<std::string> All(const std::string& k) const {
+    std::vector<std::string> out;
+    for (const auto& [a, b] : options)
+      if (a == k) out.push_back(b);
+    return out;
+  }
+};
+
+inline Args Parse(int argc, char** argv, int start, const std::vector<std::string>& with_value,
+           const std::vector<std::string>& flags) {
+  Args a;
+  for (int i = start; i < argc; ++i) {
+    std::string s = argv[i];
+    if (s.rfind("--", 0) == 0) {
+      std::string key = s, val;
+      const size_t eq = s.find('=');
+      if (eq != std::string::npos && std::find(with_value.begin(), with_value.end(), s.substr(0, eq)) != with_value.end()) {
+        key = s.substr(0, eq);
+        val = s.substr(eq + 1);
+      } else if (std::find(with_value.begin(), with_value.end(), key) != with_value.end()) {
+        if (i + 1 >= argc) Usage("option " + key + " needs a value");
+        val = argv[++i];
+      } else if (std::find(flags.begin(), flags.end(), key) == flags.end()) {
+        Usage("unknown option " + key);
+      }
+      a.options.emplace_back(key, val);
+    } else {
+      a.positional.push_back(s);
+    }
+  }
+  return a;
+}
+
+inline int ParseInt(const std::string& s, const std::string& what) {
+  char* end = nullptr;
+  const long v = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || *end) Usage(what + " must be an integer, got '" + s + "'");
+  return static_cast<int>(v);
+}
+
+inline double ParseDouble(const std::string& s, const std::string& what) {
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || *end) Usage(what + " must be a number, got '" + s + "'");
+  return v;
+}
+
+}  // namespace arcs::cli
