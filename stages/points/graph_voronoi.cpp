@@ -1,8 +1,93 @@
-// graph_voronoi stages (placeholder until the stages land).
+// graph_voronoi: graph-Voronoi reconstruction of an unoriented point cloud
+// (Dumitriu et al.; framework/points/graph_voronoi.h). Normals, if present,
+// are ignored. Writes the mesh (vertices = the k-hop subsample) and the
+// paper's Table 1/2 figures as gv_* metrics.
+#include "framework/points/graph_voronoi.h"
+#include "framework/spatial/topology.h"
 #include "stages/builtin.h"
 
 namespace arcs {
 
-void RegisterGraphVoronoi(Registry& r) { (void)r; }
+void RegisterGraphVoronoi(Registry& r) {
+  StageInfo s;
+  s.name = "graph_voronoi";
+  s.role = Role::kReconstructor;
+  s.doc = "graph-Voronoi reconstruction of unoriented points (kNN graph, k-hop subsample, "
+          "combinatorial Delaunay map, cycle faces; Dumitriu et al.)";
+  const GraphVoronoiOptions def;
+  s.params.Int("kappa", def.kappa, "nearest neighbours per point in the neighbourhood graph (paper: 15)", 1, 256)
+      .Int("k", def.k, "hop distance of the independent set: sites are >= k hops apart (paper: 5)", 1, 1000)
+      .Int("a", def.a, "adjacency threshold: cells adjacent when b12 + b21 > a (paper: 7)", 0, 1000000)
+      .Int("max_face_size", def.max_face_size, "longest cycle enumerated as a face", 3, 64)
+      .Int("cycle_search_budget", def.cycle_search_budget,
+           "DFS steps per start edge and cycle length before a search is abandoned (counted)", 1,
+           1000000000)
+      .Bool("merge_duplicates", def.merge_duplicates, "merge bit-identical points into one graph node")
+      .Double("outlier_ratio", def.outlier_ratio,
+              "0 = keep all points (paper); else drop points whose mean kNN distance exceeds "
+              "this times the median",
+              0.0, 1e12)
+      .Bool("triangulate", def.triangulate, "triangulate faces of more than three vertices (else left open)")
+      .Bool("orient", def.orient, "orient faces consistently, each component outward by signed volume")
+      .Choice("vertex_position", "site", {"site", "cell_mean"},
+              "vertex at the site's input point (paper) or at the mean of its Voronoi cell");
+  s.outputs = {"gv_prep_s",      "gv_kdtree_s",     "gv_knn_s",        "gv_mis_s",        "gv_voronoi_s",
+               "gv_cdm_s",       "gv_cycles_s",     "gv_orient_s",     "gv_triangulate_s",
+               "gv_total_s",     "gv_samples",      "gv_cdm_edges",    "gv_faces",
+               "gv_pct_triangles", "gv_genus",      "gv_unused_edges", "gv_boundary_edges",
+               "gv_closed",      "gv_manifold",     "gv_mesh_genus",   "gv_duplicates",
+               "gv_outliers_removed", "gv_truncated_searches"};
+  s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
+    if (!d.points) throw Error("graph_voronoi needs a point cloud (a points dataset or a point sampler)");
+    GraphVoronoiOptions o;
+    o.kappa = static_cast<int>(p.GetInt("kappa"));
+    o.k = static_cast<int>(p.GetInt("k"));
+    o.a = static_cast<int>(p.GetInt("a"));
+    o.max_face_size = static_cast<int>(p.GetInt("max_face_size"));
+    o.cycle_search_budget = p.GetInt("cycle_search_budget");
+    o.merge_duplicates = p.GetBool("merge_duplicates");
+    o.outlier_ratio = p.GetDouble("outlier_ratio");
+    o.triangulate = p.GetBool("triangulate");
+    o.orient = p.GetBool("orient");
+    o.vertex_position = p.GetString("vertex_position") == "cell_mean"
+                            ? GraphVoronoiOptions::VertexPosition::kCellMean
+                            : GraphVoronoiOptions::VertexPosition::kSite;
+    GraphVoronoiResult res = ReconstructGraphVoronoi(d.points->P, o);
+    const GraphVoronoiStats& st = res.stats;
+    const Topology topo = ComputeTopology(res.mesh);
+    d.SetMetric("gv_prep_s", st.prep_s);
+    d.SetMetric("gv_kdtree_s", st.kdtree_s);
+    d.SetMetric("gv_knn_s", st.knn_s);
+    d.SetMetric("gv_mis_s", st.mis_s);
+    d.SetMetric("gv_voronoi_s", st.voronoi_s);
+    d.SetMetric("gv_cdm_s", st.cdm_s);
+    d.SetMetric("gv_cycles_s", st.cycles_s);
+    d.SetMetric("gv_orient_s", st.orient_s);
+    d.SetMetric("gv_triangulate_s", st.triangulate_s);
+    d.SetMetric("gv_total_s", st.total_s);
+    d.SetMetric("gv_samples", st.sites);
+    d.SetMetric("gv_cdm_edges", static_cast<double>(st.cdm_edges));
+    d.SetMetric("gv_faces", static_cast<double>(st.faces));
+    d.SetMetric("gv_pct_triangles", st.pct_triangles);
+    d.SetMetric("gv_genus", st.genus_value);
+    d.SetMetric("gv_unused_edges", static_cast<double>(st.unused_edges));
+    d.SetMetric("gv_boundary_edges", static_cast<double>(st.boundary_edges));
+    d.SetMetric("gv_closed", topo.closed ? 1 : 0);
+    d.SetMetric("gv_manifold", topo.manifold ? 1 : 0);
+    d.SetMetric("gv_mesh_genus", topo.genus);
+    d.SetMetric("gv_duplicates", static_cast<double>(st.duplicates));
+    d.SetMetric("gv_outliers_removed", static_cast<double>(st.outliers_removed));
+    d.SetMetric("gv_truncated_searches", static_cast<double>(st.truncated_searches));
+    if (!topo.closed || !topo.manifold)
+      ctx.Warn("graph_voronoi: output is " + std::string(topo.closed ? "closed" : "open") + " and " +
+               (topo.manifold ? "manifold" : "non-manifold") + " (" + std::to_string(st.boundary_edges) +
+               " edges in one face, " + std::to_string(st.unused_edges) + " CDM edges in no face)");
+    if (st.truncated_searches > 0)
+      ctx.Warn("graph_voronoi: " + std::to_string(st.truncated_searches) +
+               " cycle searches hit cycle_search_budget");
+    d.output = std::move(res.mesh);
+  });
+  r.Register(std::move(s));
+}
 
 }  // namespace arcs
