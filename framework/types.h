@@ -66,6 +66,12 @@ struct SdfSamples {
   VectorXd values;
   std::optional<GridInfo> grid;
   double clamp = 0.0;
+  // A pseudo-SDF (paper §5.3, Fig. 25): +1 / -1 when the values of that sign
+  // are only lower bounds on the distance to the surface (|s| <= distance),
+  // as for the inside of a swept volume or a CSG union computed by min():
+  // such spheres are still empty of surface but need not touch it, so RFTA
+  // uses them as constraints without tangency points. 0 = exact SDF.
+  int bound_sign = 0;
   std::int64_t Size() const { return values.size(); }
 };
 

@@ -9,6 +9,7 @@ void RegisterBuiltinStages(Registry& r) {
   RegisterSdfFile(r);
   RegisterSdfNoise(r);
   RegisterSdfClamp(r);
+  RegisterSdfSweep(r);
   // SDF -> mesh baselines.
   RegisterMarchingCubes(r);
   // RFTA empty-space samplers and arc projector.

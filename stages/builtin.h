@@ -15,6 +15,7 @@ void RegisterSdfRandom(Registry& r);
 void RegisterSdfFile(Registry& r);
 void RegisterSdfNoise(Registry& r);
 void RegisterSdfClamp(Registry& r);
+void RegisterSdfSweep(Registry& r);
 void RegisterMarchingCubes(Registry& r);
 void RegisterEvalStages(Registry& r);
 // Surface reconstructors (oriented points -> mesh; stages/reconstruct/).

@@ -88,7 +88,10 @@ SignedSpheres SplitSpheresBySign(const SdfSamples& s, const SignSplitOptions& o)
     set.radii[j] = r;
     set.sample[j] = static_cast<int>(i);
     // Clamped SDF (paper §5.3): |s| = clamp only says "at least that far".
-    set.wants_point[j] = !(s.clamp > 0.0 && std::abs(s.values[i]) >= s.clamp);
+    // Pseudo-SDF (§5.3, Fig. 25): values of the bound sign only bound the
+    // distance from below, so their spheres need not touch the surface.
+    set.wants_point[j] = !(s.clamp > 0.0 && std::abs(s.values[i]) >= s.clamp) &&
+                         !(s.bound_sign != 0 && (s.values[i] > 0) == (s.bound_sign > 0));
     ++j;
   }
   return out;
