@@ -26,6 +26,9 @@ void PoissonOptions::Check() const {
                     "an integer in [0, 12]");
   ARCS_CHECK_OPTION(std::isfinite(point_weight) && point_weight >= 0.0 && point_weight <= 1e6,
                     "point_weight", point_weight, "in [0, 1e6]");
+  ARCS_CHECK_OPTION(open_retries >= 0 && open_retries <= 10, "open_retries", open_retries, "in [0, 10]");
+  ARCS_CHECK_OPTION(retry_weight_factor > 0.0 && retry_weight_factor < 1.0, "retry_weight_factor",
+                    retry_weight_factor, "in (0, 1)");
   ARCS_CHECK_OPTION(std::isfinite(samples_per_node) && samples_per_node >= 0.5 &&
                         samples_per_node <= 100.0,
                     "samples_per_node", samples_per_node, "in [0.5, 100]");
@@ -292,7 +295,7 @@ int AutoPoissonDepth(const PointCloud& oriented, const PoissonOptions& options) 
 }
 
 Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& options,
-                        const Context& ctx) {
+                        const Context& ctx, double* used_weight) {
   options.Check();
   const Box box = ValidateInput(oriented);
   ctx.CheckStop();
@@ -317,39 +320,56 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
       nrm[static_cast<std::size_t>(3 * i + k)] = static_cast<float>(nn[k]);
     }
   }
-  ctx.Info("screened Poisson: " + std::to_string(n) + " points, depth " + std::to_string(depth) +
-           (options.depth == 0 ? " (automatic)" : "") + ", point weight " +
-           std::to_string(options.point_weight));
-  ctx.Progress(0.0, "screened Poisson");
-  Mesh mesh = poisson_detail::RunPclPoisson(xyz, nrm, options, depth);
-  ctx.CheckStop();
-  if (mesh.F.rows() == 0) {
-    throw Error("screened Poisson: PCL produced no surface (depth " + std::to_string(depth) +
-                ", " + std::to_string(n) + " points); the points may not bound a volume");
+  double weight = options.point_weight;
+  Mesh mesh;
+  for (int attempt = 0;; ++attempt) {
+    ctx.Info("screened Poisson: " + std::to_string(n) + " points, depth " + std::to_string(depth) +
+             (options.depth == 0 ? " (automatic)" : "") + ", point weight " + std::to_string(weight));
+    ctx.Progress(0.0, "screened Poisson");
+    PoissonOptions o = options;
+    o.point_weight = weight;
+    mesh = poisson_detail::RunPclPoisson(xyz, nrm, o, depth);
+    ctx.CheckStop();
+    if (mesh.F.rows() == 0) {
+      throw Error("screened Poisson: PCL produced no surface (depth " + std::to_string(depth) +
+                  ", " + std::to_string(n) + " points); the points may not bound a volume");
+    }
+    for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
+      mesh.V.row(i) = (mesh.V.row(i) * extent + center.transpose()).eval();
+    }
+    const auto [merged, removed] = CanonicalizeAndWeld(mesh);
+    const auto [filled, open] = FillCracks(mesh, kMaxCrackEdges);
+    if (merged > 0 || removed > 0 || filled > 0) {
+      ctx.Info("screened Poisson: merged " + std::to_string(merged) + " coincident vertices, removed " +
+               std::to_string(removed) + " collapsed faces, closed " + std::to_string(filled) +
+               " crack(s)");
+    }
+    if (open > 0 && attempt < options.open_retries && weight > 0.0) {
+      // A strongly screened solve can leave sheets reaching the reconstruction
+      // cube where the points are noisy (measured: fandisk n = 40 RFTA points,
+      // open at weight 400, closed at 10); a weaker screening smooths them.
+      ctx.Info("screened Poisson: the output is not closed (" + std::to_string(open) +
+               " boundary loops) at point weight " + std::to_string(weight) + "; retrying at " +
+               std::to_string(weight * options.retry_weight_factor));
+      weight *= options.retry_weight_factor;
+      continue;
+    }
+    if (open > 0) {
+      // Typically the iso-surface reaching the reconstruction cube: points that
+      // do not enclose a volume, inconsistent normals, or too few points.
+      ctx.Warn("screened Poisson: the output is not closed: " + std::to_string(open) +
+               " boundary loop(s) longer than " + std::to_string(kMaxCrackEdges) +
+               " edges or not simple");
+    } else if (SignedVolume(mesh) < 0.0) {
+      // PCL winds faces consistently with the normals (outward for outward
+      // normals); inward normals give the same surface wound inward. Closed
+      // meshes in arcs have positive volume, so flip those.
+      ctx.Info("screened Poisson: the normals point inward; flipping the output to outward");
+      mesh.F.col(1).swap(mesh.F.col(2));
+    }
+    break;
   }
-  for (Eigen::Index i = 0; i < mesh.V.rows(); ++i) {
-    mesh.V.row(i) = (mesh.V.row(i) * extent + center.transpose()).eval();
-  }
-  const auto [merged, removed] = CanonicalizeAndWeld(mesh);
-  const auto [filled, open] = FillCracks(mesh, kMaxCrackEdges);
-  if (merged > 0 || removed > 0 || filled > 0) {
-    ctx.Info("screened Poisson: merged " + std::to_string(merged) + " coincident vertices, removed " +
-             std::to_string(removed) + " collapsed faces, closed " + std::to_string(filled) +
-             " crack(s)");
-  }
-  if (open > 0) {
-    // Typically the iso-surface reaching the reconstruction cube: points that
-    // do not enclose a volume, inconsistent normals, or too few points.
-    ctx.Warn("screened Poisson: the output is not closed: " + std::to_string(open) +
-             " boundary loop(s) longer than " + std::to_string(kMaxCrackEdges) +
-             " edges or not simple");
-  } else if (SignedVolume(mesh) < 0.0) {
-    // PCL winds faces consistently with the normals (outward for outward
-    // normals); inward normals give the same surface wound inward. Closed
-    // meshes in arcs have positive volume, so flip those.
-    ctx.Info("screened Poisson: the normals point inward; flipping the output to outward");
-    mesh.F.col(1).swap(mesh.F.col(2));
-  }
+  if (used_weight) *used_weight = weight;
   SortFaces(mesh);
   ctx.Progress(1.0, "screened Poisson");
   return mesh;

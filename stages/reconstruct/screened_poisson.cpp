@@ -26,8 +26,10 @@ void RegisterScreenedPoisson(Registry& r) {
       .Double("scale", def.scale, "reconstruction cube side / bounding-box extent of the points", 1.01, 16.0)
       .Bool("manifold", def.manifold, "split marching-cubes polygons at their barycentre (manifold output)")
       .Int("threads", def.threads,
-           "OpenMP threads inside PCL; only 1 is deterministic (set OMP_WAIT_POLICY=PASSIVE for more)", 1, 256);
-  s.outputs = {"poisson_depth"};
+           "OpenMP threads inside PCL; only 1 is deterministic (set OMP_WAIT_POLICY=PASSIVE for more)", 1, 256)
+      .Int("open_retries", def.open_retries,
+           "an open output is solved again with a 4x weaker point weight, up to this many times (0 = never)", 0, 10);
+  s.outputs = {"poisson_depth", "poisson_point_weight"};
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
     if (!d.points || !d.points->HasNormals()) {
       throw Error("screened_poisson needs oriented points (points with normals) from an earlier stage");
@@ -41,11 +43,14 @@ void RegisterScreenedPoisson(Registry& r) {
     o.scale = p.GetDouble("scale");
     o.manifold = p.GetBool("manifold");
     o.threads = static_cast<int>(p.GetInt("threads"));
+    o.open_retries = static_cast<int>(p.GetInt("open_retries"));
     o.Check();
     // Resolve the automatic depth here so the row records the depth used.
     if (o.depth == 0) o.depth = AutoPoissonDepth(*d.points, o);
-    d.output = ReconstructPoisson(*d.points, o, ctx);
+    double used = o.point_weight;
+    d.output = ReconstructPoisson(*d.points, o, ctx, &used);
     d.SetMetric("poisson_depth", o.depth);
+    d.SetMetric("poisson_point_weight", used);
   });
   r.Register(std::move(s));
 }
