@@ -8,6 +8,7 @@
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"
+#include "framework/io/points_io.h"
 #include "framework/io/sdf_io.h"
 #include "framework/sdf/sdf_sampling.h"
 #include "framework/spatial/topology.h"
@@ -50,9 +51,10 @@ commands:
                              sample a mesh's SDF (paper protocol) to OUT (.npy grid or .txt)
   eval MESH REFERENCE [--samples N] [--sdf FILE] [--no-normalize]
                              the paper's metrics of MESH against REFERENCE
-  reconstruct SDF OUT [--method STAGE] [--param name=value]...
+  reconstruct SDF OUT [--method STAGE] [--param name=value]... [--points PTS.ply]
                              SDF samples (grid .npy, (N,d+1) .npy, text) -> mesh OUT;
-                             method: rfta (default), marching_cubes, or any sdf_to_mesh stage
+                             method: rfta (default), marching_cubes, or any sdf_to_mesh stage;
+                             --points also writes the method's oriented points (RFTA's tangency points)
   shape NAME OUT             write a built-in shape (sphere, torus, knot, two_tori)
   voxelize MESH OUT.npy [options]
                              winding-number occupancy grid of MESH (`arcs voxelize --help`)
@@ -262,6 +264,10 @@ int CmdReconstruct(Registry& registry, const Args& args) {
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (!data.output || data.output->Empty()) throw Error(method + " produced an empty mesh");
   WriteMesh(args.positional[1], *data.output);
+  if (args.Has("--points")) {
+    if (!data.points) throw Error(method + " produced no oriented points to write to " + args.Get("--points"));
+    WritePointCloud(args.Get("--points"), *data.points);
+  }
   const Topology t = ComputeTopology(*data.output);
   std::fprintf(stderr, "%s: %lld samples -> %d vertices, %d faces (closed %d, genus %d) in %.2f s -> %s\n",
                method.c_str(), static_cast<long long>(data.samples->Size()), t.vertices, t.faces, t.closed, t.genus,
@@ -311,7 +317,7 @@ int main(int argc, char** argv) {
     if (cmd == "sdf") return CmdSdf(Parse(argc, argv, 2, {"--n", "--random", "--rotate"}, {"--no-normalize"}));
     if (cmd == "eval") return CmdEval(Parse(argc, argv, 2, {"--samples", "--sdf"}, {"--no-normalize"}));
     if (cmd == "reconstruct") {
-      const Args a = Parse(argc, argv, 2, {"--plugin", "--method", "--param", "--seed", "--threads"}, {});
+      const Args a = Parse(argc, argv, 2, {"--plugin", "--method", "--param", "--seed", "--threads", "--points"}, {});
       LoadPlugins(registry, a);
       return CmdReconstruct(registry, a);
     }

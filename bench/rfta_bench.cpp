@@ -9,8 +9,15 @@
 // samples) and the speed-up against the official wall time.
 //
 //   rfta_bench [all | torus20 | torus40 | bunny20]
+//   rfta_bench scaling [SHAPE] [NMAX]
+// "scaling" is the paper's Fig. 14: RFTA (default preset) on SHAPE (torus,
+// or a bench mesh name) at n = 10 ... NMAX (default 100), printing per-stage
+// wall time, peak resident memory of each run (reset before it), the number
+// of samples N = (n+1)^3, and the growth exponent of the time between
+// consecutive n (1 = linear in N; N log N gives slightly above 1).
 #include "framework/context.h"
 #include "framework/eval/metrics.h"
+#include "framework/experiment/memory.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"
@@ -20,6 +27,7 @@
 #include "stages/builtin.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -82,12 +90,59 @@ void Run(const BenchCase& bc, const Registry& registry) {
   std::fflush(stdout);
 }
 
+Mesh LoadShape(const std::string& shape) {
+  if (shape == "torus") return MakeTorus();
+  const std::string path = std::string(ARCS_SHARED_DIR) + "/data/bench/" + shape + ".obj";
+  if (!std::filesystem::exists(path)) throw Error("rfta_bench: " + path + " not found");
+  return ReadMesh(path);
+}
+
+int Scaling(const Registry& registry, const std::string& shape, int nmax) {
+  Mesh mesh = LoadShape(shape);
+  Normalize(&mesh, NormalizeOptions{});
+  std::printf("RFTA runtime scaling (paper Fig. 14), %s, default preset, %d threads\n", shape.c_str(), MaxThreads());
+  std::printf("%5s %9s | %8s %8s %9s %8s | %8s %9s %7s | %9s\n", "n", "N", "sampler", "project", "finetune", "final",
+              "total", "peak_MB", "exp", "chamfer");
+  double prev_t = 0, prev_n = 0;
+  for (int n : {10, 20, 30, 40, 60, 80, 100, 120}) {
+    if (n > nmax) break;
+    Context ctx(1);
+    SdfGridOptions go;
+    go.n = n;
+    CaseData d;
+    d.registry = &registry;
+    d.samples = SampleSdfGrid(mesh, go, ctx);
+    const double N = static_cast<double>(d.samples->Size());
+    ResetPeakRss();
+    const auto t0 = std::chrono::steady_clock::now();
+    registry.Get("rfta").factory(registry.Resolve("rfta", ParamMap{}))->Run(ctx, d);
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double peak_mb = PeakRssBytes() / 1048576.0;
+    auto metric = [&](const char* k) {
+      for (const auto& [name, v] : d.metrics)
+        if (name == k) return v;
+      return 0.0;
+    };
+    const double chamfer = ChamferPaper(*d.output, mesh, 1000000, 1);
+    const double expo = prev_t > 0 ? std::log(total / prev_t) / std::log(N / prev_n) : 0.0;
+    std::printf("%5d %9.0f | %8.2f %8.2f %9.2f %8.2f | %8.2f %9.0f %7.2f | %9.5f\n", n, N, metric("rfta_sampler_s"),
+                metric("rfta_projector_s"), metric("rfta_fine_tune_s"), metric("rfta_final_s"), total, peak_mb, expo,
+                chamfer);
+    std::fflush(stdout);
+    prev_t = total;
+    prev_n = N;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const std::string which = argc > 1 ? argv[1] : "all";
   Registry registry;
   RegisterBuiltinStages(registry);
+  if (which == "scaling")
+    return Scaling(registry, argc > 2 ? argv[2] : "torus", argc > 3 ? std::atoi(argv[3]) : 100);
   const BenchCase cases[] = {
       {"torus20", "torus", 20, 3, 3, 72, 0.00390},
       {"torus40", "torus", 40, 3, 3, 833, 0.00176},
