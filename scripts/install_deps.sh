@@ -8,7 +8,8 @@
 #   libtbb-dev                 parallel loops
 #   libnanoflann-dev           kd-tree k-nearest neighbours (header-only; measured in bench/)
 #   libgtest-dev               the test suite
-#   libcgal-dev libembree-dev  only for bench/spatial_bench (closest-point comparison)
+#   libcgal-dev                alpha shapes, advancing front, normal estimation (framework/points/cgal/), bench
+#   libembree-dev              ray-parity voxelization baseline, bench/spatial_bench comparison
 #   libpcl-dev                 screened Poisson reconstruction (pcl::Poisson; optional, ARCS_WITH_PCL)
 #   libopen3d-dev              ball pivoting (Open3D's CreateFromPointCloudBallPivoting; optional, ARCS_WITH_OPEN3D)
 set -euo pipefail
