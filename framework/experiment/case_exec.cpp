@@ -6,6 +6,7 @@
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/points_io.h"
+#include "framework/planar/curves.h"
 #include "framework/spatial/topology.h"
 #include "framework/util/parallel.h"
 
@@ -88,7 +89,12 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
     no.longest_side = c.normalize.longest_side;
     no.random_rotation = c.normalize.random_rotation;
     no.rotation_seed = static_cast<std::uint64_t>(c.normalize.rotation_seed);
-    if (c.kind == "points") {
+    if (c.kind == "curves") {
+      data.reference_curve = c.item_path.rfind("curve:", 0) == 0 ? MakeBuiltinCurve(c.item_path.substr(6))
+                                                                  : ReadPolyline(c.item_path);
+      if (c.normalize.enabled) NormalizeCurve(&*data.reference_curve, c.normalize.longest_side, c.normalize.center);
+      set("ref_components", std::to_string(ComputeCurveTopology(*data.reference_curve).components));
+    } else if (c.kind == "points") {
       PointReadReport report;
       data.points = ReadPointCloud(c.item_path, &report);
       if (!report.skipped_lines.empty())

@@ -2,6 +2,7 @@
 
 #include "framework/experiment/version.h"
 #include "framework/util/rng.h"
+#include "framework/planar/curves.h"
 #include "registry/plugin.h"
 
 #include <algorithm>
@@ -607,8 +608,10 @@ Experiment LoadExperiment(const std::string& path, const std::vector<std::string
       if (!d["files"] && !d["shapes"]) Fail(f, d, fld, "needs 'files' (paths or globs) or 'shapes' (built-in shapes)");
       if (d["kind"]) {
         spec.kind = GetString(f, d["kind"], fld + ".kind");
-        if (spec.kind != "mesh" && spec.kind != "points")
-          Fail(f, d["kind"], fld + ".kind", "must be 'mesh' (files are meshes) or 'points' (files are point clouds), got '" + spec.kind + "'");
+        if (spec.kind != "mesh" && spec.kind != "points" && spec.kind != "curves")
+          Fail(f, d["kind"], fld + ".kind",
+               "must be 'mesh' (files are meshes), 'points' (files are point clouds) or 'curves' (2D polylines), got '" +
+                   spec.kind + "'");
       }
       if (d["reference"]) {
         if (spec.kind != "points")
@@ -640,7 +643,17 @@ Experiment LoadExperiment(const std::string& path, const std::vector<std::string
           spec.files.insert(spec.files.end(), matched.begin(), matched.end());
         }
       }
-      if (d["shapes"]) {
+      if (d["shapes"] && spec.kind == "curves") {
+        const auto names = BuiltinCurveNames();
+        for (const auto& s : GetStringList(f, d["shapes"], fld + ".shapes")) {
+          if (std::find(names.begin(), names.end(), s) == names.end()) {
+            std::string valid;
+            for (const auto& b : names) valid += (valid.empty() ? "" : ", ") + b;
+            Fail(f, d["shapes"], fld + ".shapes", "unknown built-in curve '" + s + "'; valid: " + valid);
+          }
+          spec.files.push_back("curve:" + s);
+        }
+      } else if (d["shapes"]) {
         for (const auto& s : GetStringList(f, d["shapes"], fld + ".shapes")) {
           if (std::find(kBuiltinShapes.begin(), kBuiltinShapes.end(), s) == kBuiltinShapes.end()) {
             std::string valid;
@@ -781,7 +794,8 @@ std::vector<Case> ExpandCases(const Experiment& exp, const Registry& registry) {
               Case c;
               c.dataset = ds.name;
               c.item_path = file;
-              c.item = file.rfind("shape:", 0) == 0 ? file.substr(6) : fs::path(file).stem().string();
+              c.item = file.rfind("shape:", 0) == 0 || file.rfind("curve:", 0) == 0 ? file.substr(6)
+                                                                                     : fs::path(file).stem().string();
               c.normalize = ds.normalize;
               c.kind = ds.kind;
               c.reference_path = ds.reference;

@@ -68,16 +68,17 @@ AllSpheres Combine(const SignedSpheres& s) {
 // sphere contains it by more than tol). Returns p itself when no step is
 // feasible (p is the last known feasible point, paper §4.2), or q when
 // `jump_when_blocked` (the official code; Alg. 2 then repairs q).
+// In 2D (dim 2) every point has z = 0 and the rotation axis is the z axis.
 Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double step, int halvings,
                const SphereTree& tree, double tol, int self, bool jump_when_blocked,
-               const SphereTree::LocalSet* local) {
+               const SphereTree::LocalSet* local, int dim) {
   const Vec3 u = (p - c) / r, v = (q - c) / r;
   const double cosang = std::clamp(u.dot(v), -1.0, 1.0);
   const double full = std::acos(cosang);
   if (full < 1e-15) return q;
   Vec3 axis = u.cross(v);
-  if (axis.norm() < 1e-14) {  // antipodal: any perpendicular axis
-    axis = u.unitOrthogonal();
+  if (axis.norm() < 1e-14) {  // antipodal: any perpendicular axis (in 2D: the plane's normal)
+    axis = dim == 2 ? Vec3(0, 0, 1) : Vec3(u.unitOrthogonal());
   }
   axis.normalize();
   double theta = std::min(step / r, full);
@@ -89,10 +90,52 @@ Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double ste
   return jump_when_blocked ? q : p;
 }
 
+// The 3D surface: closest points by the triangle BVH, inside by the fast
+// winding number (as before the TuningSurface interface existed).
+class MeshTuningSurface final : public TuningSurface {
+ public:
+  explicit MeshTuningSurface(Mesh m) : mesh_(std::move(m)) {}
+  void Prepare() override {
+    bvh_ = std::make_unique<TriangleBvh>(mesh_);
+    fwn_ = std::make_unique<FastWindingNumber>(mesh_);
+  }
+  void ClosestPoints(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d* points) const override {
+    bvh_->ClosestPoints(Q, sq_dist, points);
+  }
+  double Closest(const Vec3& q, Vec3* point) const override {
+    const TriangleBvh::Hit h = bvh_->Closest(q);
+    *point = h.point;
+    return h.sq_dist;
+  }
+  VectorXd WindingNumbers(const MatrixX3d& Q) const override { return fwn_->Eval(Q); }
+
+ private:
+  Mesh mesh_;
+  std::unique_ptr<TriangleBvh> bvh_;
+  std::unique_ptr<FastWindingNumber> fwn_;
+};
+
 }  // namespace
+
+std::unique_ptr<TuningSurface> MakeMeshTuningSurface(Mesh unit_frame_mesh) {
+  return std::make_unique<MeshTuningSurface>(std::move(unit_frame_mesh));
+}
 
 FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
                         const PointsToMesh& reconstruct, const FineTuneOptions& options, const Context& ctx) {
+  const PointsToSurface surface = [&](const PointCloud& pc, const UnitFrame& frame) -> std::unique_ptr<TuningSurface> {
+    Mesh omega = reconstruct(pc);
+    if (omega.Empty()) return nullptr;
+    // Into the unit frame.
+    for (int v = 0; v < omega.NumVertices(); ++v)
+      omega.V.row(v) = frame.ToUnit(omega.V.row(v).transpose()).transpose();
+    return MakeMeshTuningSurface(std::move(omega));
+  };
+  return FineTune(samples, initial, initial_sample, surface, options, ctx);
+}
+
+FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
+                        const PointsToSurface& reconstruct, const FineTuneOptions& options, const Context& ctx) {
   options.Check();
   CheckRftaSamples(samples, "fine_tune");
   if (static_cast<int>(initial_sample.size()) != initial.Size())
@@ -155,9 +198,9 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
     auto t0 = Clock::now();
     FineTuneResult current;
     to_cloud(&current);
-    Mesh omega;
+    std::unique_ptr<TuningSurface> omega;
     try {
-      omega = reconstruct(current.points);
+      omega = reconstruct(current.points, frame);
     } catch (const Cancelled&) {
       throw;
     } catch (const std::exception& e) {
@@ -166,24 +209,22 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
       ctx.Warn("fine_tune: " + result.stop_reason + "; keeping the points of the previous iteration");
       break;
     }
-    if (omega.Empty()) {
+    if (!omega) {
       result.stopped_early = true;
       result.stop_reason = "empty reconstruction at iteration " + std::to_string(it + 1);
       ctx.Warn("fine_tune: " + result.stop_reason + "; keeping the points of the previous iteration");
       break;
     }
     stats.reconstruct_s = Since(t0);
-    // Into the unit frame.
-    for (int v = 0; v < omega.NumVertices(); ++v)
-      omega.V.row(v) = frame.ToUnit(omega.V.row(v).transpose()).transpose();
 
     // 2. Closest points and inside/outside of every sphere centre.
     t0 = Clock::now();
-    const TriangleBvh bvh(omega);
+    omega->Prepare();
+    const TuningSurface& surface = *omega;
     VectorXd sqd;
     MatrixX3d cp;
-    bvh.ClosestPoints(all.centers, &sqd, &cp);
-    const VectorXd w = FastWindingNumber(omega).Eval(all.centers);
+    surface.ClosestPoints(all.centers, &sqd, &cp);
+    const VectorXd w = surface.WindingNumbers(all.centers);
     stats.query_s = Since(t0);
 
     // 3. The constraint batch (both signs), drawn without replacement.
@@ -234,7 +275,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         };
         auto transport = [&](const Vec3& p, const Vec3& target) {
           return Transport(p, target, c, r, options.tau, options.halvings, tree, options.tol, g,
-                           options.jump_when_blocked, local);
+                           options.jump_when_blocked, local, samples.dim);
         };
         // A sphere without a point gets q if feasible ("second chance");
         // otherwise its point closest to q moves towards q. Returns that
@@ -261,8 +302,9 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
               // closest surface point; ordered by distance to the surface.
               std::vector<std::pair<double, Vec3>> moved;
               for (const Vec3& a : mine) {
-                const TriangleBvh::Hit h = bvh.Closest(a);
-                moved.emplace_back(h.sq_dist, transport(a, project(h.point)));
+                Vec3 hp;
+                const double hd = surface.Closest(a, &hp);
+                moved.emplace_back(hd, transport(a, project(hp)));
               }
               std::stable_sort(moved.begin(), moved.end(),
                                [](const auto& x, const auto& y) { return x.first < y.first; });

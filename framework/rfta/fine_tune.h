@@ -9,13 +9,23 @@
 // signs (Algorithm 2).
 //
 // Units: the unit frame of sphere_set.h (τ and tol in [0,1]^d units).
+//
+// Dimensions. The reconstructed surface Ω^k is reached through TuningSurface
+// (closest point + inside test): a triangle mesh in 3D
+// (MakeMeshTuningSurface: the closest-point BVH and the fast winding number),
+// a polyline in 2D (framework/planar: MakePolylineTuningSurface). The 3D
+// entry point with a PointsToMesh reconstructor is unchanged and gives the
+// same results as before the generalisation, bit for bit. In 2D (samples.dim
+// = 2, all points with z = 0) geodesic transport rotates about the z axis.
 #pragma once
 
 #include "framework/context.h"
 #include "framework/rfta/arc_projector.h"
+#include "framework/rfta/sphere_set.h"
 #include "framework/types.h"
 
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace arcs {
@@ -46,6 +56,30 @@ struct FineTuneOptions {
 // Reconstructs a mesh (input frame) from oriented points (input frame).
 using PointsToMesh = std::function<Mesh(const PointCloud&)>;
 
+// What fine-tuning asks of a reconstructed surface Ω^k (paper §4.2), in the
+// unit frame: closest points and the inside test (winding number > 1/2).
+// Queries are const and may run in parallel; answers must not depend on the
+// thread count.
+class TuningSurface {
+ public:
+  virtual ~TuningSurface() = default;
+  // Builds the query structures; called once, before any query.
+  virtual void Prepare() = 0;
+  // Squared distances and closest points of every row of Q (outputs resized).
+  virtual void ClosestPoints(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d* points) const = 0;
+  // Squared distance to the closest point of one query, and that point.
+  virtual double Closest(const Vec3& q, Vec3* point) const = 0;
+  // Generalised winding numbers of the rows of Q (> 0.5 = inside).
+  virtual VectorXd WindingNumbers(const MatrixX3d& Q) const = 0;
+};
+
+// A triangle mesh already in the unit frame as a TuningSurface (the 3D path).
+std::unique_ptr<TuningSurface> MakeMeshTuningSurface(Mesh unit_frame_mesh);
+
+// Reconstructs a surface from oriented points (input frame) and returns it
+// mapped into `frame`'s unit frame; nullptr = an empty reconstruction.
+using PointsToSurface = std::function<std::unique_ptr<TuningSurface>(const PointCloud&, const UnitFrame& frame)>;
+
 struct FineTuneIteration {
   std::int64_t points = 0;       // points after the iteration
   std::int64_t intersected = 0;  // spheres the surface cut into
@@ -66,8 +100,13 @@ struct FineTuneResult {
 
 // Runs k_max fine-tuning iterations from the tangency points `initial`
 // (`initial_sample[j]` = the SDF sample of point j). `reconstruct` is the
-// configured surface reconstructor (screened Poisson by default).
+// configured surface reconstructor (screened Poisson by default); its meshes
+// are queried through MakeMeshTuningSurface (3D).
 FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
                         const PointsToMesh& reconstruct, const FineTuneOptions& options, const Context& ctx);
+
+// The same with any surface type (2D polylines, or other 3D surfaces).
+FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
+                        const PointsToSurface& reconstruct, const FineTuneOptions& options, const Context& ctx);
 
 }  // namespace arcs

@@ -1,8 +1,12 @@
 // fine_tune: the local–global fine-tuning of Reach for the Arcs (paper §4.2,
 // Alg. 3). Reads CaseData::points/point_sample (from arc_projector), writes
 // the tuned points back; the reconstructor it tunes against is a nested stage.
+// On 2D samples it tunes against closed polylines (framework/planar): the 3D
+// `screened_poisson` becomes `screened_poisson_2d` (stages/planar/planar.h).
+#include "framework/planar/rfta2d.h"
 #include "framework/rfta/fine_tune.h"
 #include "stages/builtin.h"
+#include "stages/planar/planar.h"
 
 namespace arcs {
 
@@ -43,7 +47,33 @@ void RegisterFineTune(Registry& r) {
     o.jump_when_blocked = p.GetBool("jump_when_blocked");
     o.keep_points_when_missed = p.GetBool("keep_points_when_missed");
     o.pair_choice = p.GetString("pair_choice") == "first" ? PairChoice::kFirst : PairChoice::kClosest;
+    auto record = [&](FineTuneResult res) {
+      d.points = std::move(res.points);
+      d.point_sample = std::move(res.sample);
+      d.SetMetric("rfta_points", static_cast<double>(d.points->Size()));
+      d.SetMetric("fine_tune_iterations", static_cast<double>(res.iterations.size()));
+      double rec_s = 0;
+      for (const auto& it : res.iterations) rec_s += it.reconstruct_s;
+      d.SetMetric("fine_tune_reconstruct_s", rec_s);
+      if (res.stopped_early) ctx.Warn("fine_tune stopped early: " + res.stop_reason);
+    };
     const StageSpec& rec = p.GetStage("reconstructor");
+    if (samples.dim == 2) {
+      const StageSpec rec2 = PlanarReconstructorFor(rec, d.registry);
+      const PointsToCurve reconstruct2 = [&](const PointCloud& pc) {
+        CaseData sub;
+        sub.registry = d.registry;
+        sub.points = pc;
+        RunNestedStage(rec2, ctx, sub);
+        if (!sub.output_curve)
+          throw Error("reconstructor '" + rec2.stage + "' produced no 2D curve (2D samples need a 2D reconstructor, "
+                      "e.g. screened_poisson_2d)");
+        return *sub.output_curve;
+      };
+      FineTuneResult res = FineTune2D(samples, *d.points, d.point_sample, reconstruct2, o, ctx);
+      record(std::move(res));
+      return;
+    }
     PointsToMesh reconstruct = [&](const PointCloud& pc) {
       CaseData sub;
       sub.registry = d.registry;
@@ -52,15 +82,7 @@ void RegisterFineTune(Registry& r) {
       if (!sub.output) throw Error("reconstructor '" + rec.stage + "' produced no mesh");
       return *sub.output;
     };
-    FineTuneResult res = FineTune(samples, *d.points, d.point_sample, reconstruct, o, ctx);
-    d.points = std::move(res.points);
-    d.point_sample = std::move(res.sample);
-    d.SetMetric("rfta_points", static_cast<double>(d.points->Size()));
-    d.SetMetric("fine_tune_iterations", static_cast<double>(res.iterations.size()));
-    double rec_s = 0;
-    for (const auto& it : res.iterations) rec_s += it.reconstruct_s;
-    d.SetMetric("fine_tune_reconstruct_s", rec_s);
-    if (res.stopped_early) ctx.Warn("fine_tune stopped early: " + res.stop_reason);
+    record(FineTune(samples, *d.points, d.point_sample, reconstruct, o, ctx));
   });
   r.Register(std::move(s));
 }

@@ -2,9 +2,14 @@
 // empty-space sampler, the arc projector, the fine-tuner and the final
 // reconstruction, each the registered stage of that name, so `rfta` and the
 // explicit pipeline give the same result. Writes the time of each part.
+// On 2D samples (dim 2) it writes CaseData::output_curve: the reconstructors
+// `screened_poisson` (the 3D default, final and tuning) become
+// `screened_poisson_2d` with its defaults (stages/planar/planar.h); a
+// configured 2D reconstructor is used as given.
 #include "framework/rfta/sphere_set.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
+#include "stages/planar/planar.h"
 
 #include <chrono>
 
@@ -66,9 +71,17 @@ void RegisterRfta(Registry& r) {
         ctx.Warn(msg + "; going on (set on_sign_conflict: error to refuse such input)");
       }
     }
+    const bool planar = d.RequireSamples("rfta").dim == 2;
     timed("rfta_sampler_s", p.GetStage("sampler"));
     timed("rfta_projector_s", StageSpec{"arc_projector", reg.Resolve("arc_projector", proj)});
     timed("rfta_fine_tune_s", StageSpec{"fine_tune", reg.Resolve("fine_tune", ft)});
+    if (planar) {
+      d.output_curve.reset();
+      timed("rfta_final_s", PlanarReconstructorFor(p.GetStage("reconstructor"), d.registry));
+      if (!d.output_curve) throw Error("rfta: the reconstructor produced no 2D curve (2D samples need a 2D reconstructor, e.g. screened_poisson_2d)");
+      if (d.output_curve->Empty()) throw Error("rfta: the final 2D reconstruction is empty");
+      return;
+    }
     timed("rfta_final_s", p.GetStage("reconstructor"));
     if (!d.output) throw Error("rfta: the reconstructor produced no mesh");
   });
