@@ -9,6 +9,8 @@
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/points_io.h"
+#include "framework/planar/curves.h"
+#include "framework/planar/sdf2d.h"
 #include "framework/io/sdf_io.h"
 #include "framework/sdf/sdf_sampling.h"
 #include "framework/spatial/topology.h"
@@ -47,15 +49,17 @@ commands:
                              rebuild the tables from RESULTS_DIR/results.csv
   list                       every registered stage, by role
   describe STAGE             a stage's parameters with defaults, ranges and docs
-  sdf MESH OUT [--n N] [--random COUNT] [--no-normalize] [--rotate SEED]
-                             sample a mesh's SDF (paper protocol) to OUT (.npy grid or .txt)
+  sdf MESH OUT [--n N] [--random COUNT] [--no-normalize] [--rotate SEED] [--curve]
+                             sample a mesh's SDF (paper protocol) to OUT (.npy grid or .txt);
+                             --curve: MESH is a 2D polyline file or built-in curve name
   eval MESH REFERENCE [--samples N] [--sdf FILE] [--no-normalize]
                              the paper's metrics of MESH against REFERENCE
   reconstruct SDF OUT [--method STAGE] [--param name=value]... [--points PTS.ply]
                              SDF samples (grid .npy, (N,d+1) .npy, text) -> mesh OUT;
                              method: rfta (default), marching_cubes, or any sdf_to_mesh stage;
                              --points also writes the method's oriented points (RFTA's tangency points)
-  shape NAME OUT             write a built-in shape (sphere, torus, knot, two_tori)
+  shape NAME OUT             write a built-in shape (sphere, torus, knot, two_tori), or a
+                             built-in 2D curve as a polyline (.obj/.txt/.svg; `arcs shape list`)
   voxelize MESH OUT.npy [options]
                              winding-number occupancy grid of MESH (`arcs voxelize --help`)
   morph SOURCE TARGET OUT [options]
@@ -164,6 +168,31 @@ Mesh LoadMeshNormalized(const std::string& path, bool normalize, int rotate_seed
 
 int CmdSdf(const Args& args) {
   if (args.positional.size() != 2) Usage("sdf needs MESH and OUT");
+  if (args.Has("--curve")) {
+    // 2D: a polyline file (.obj with 'l' lines, .txt, .poly) or a built-in curve name.
+    const std::string& in = args.positional[0];
+    const auto names = BuiltinCurveNames();
+    Polyline curve = std::find(names.begin(), names.end(), in) != names.end() ? MakeBuiltinCurve(in) : ReadPolyline(in);
+    if (!args.Has("--no-normalize")) NormalizeCurve(&curve, 1.0, true);
+    Context ctx(1);
+    SdfSamples s2;
+    if (args.Has("--random")) {
+      s2 = SampleSdfRandom2D(curve, ParseInt(args.Get("--random"), "--random"), -1.0, 1.0, ctx);
+    } else {
+      SdfGrid2DOptions o;
+      o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n") : 20;
+      s2 = SampleSdfGrid2D(curve, o, ctx);
+    }
+    const std::string out = args.positional[1];
+    if (fs::path(out).extension() == ".npy") {
+      if (!s2.grid) throw Error("a .npy output holds a grid; use a .txt output for --random samples");
+      WriteSdfGrid(out, s2);
+    } else {
+      WriteSdfText(out, s2);
+    }
+    std::fprintf(stderr, "wrote %lld 2D SDF samples to %s\n", static_cast<long long>(s2.Size()), out.c_str());
+    return 0;
+  }
   const Mesh m = LoadMeshNormalized(args.positional[0], !args.Has("--no-normalize"),
                                     args.Has("--rotate") ? ParseInt(args.Get("--rotate"), "--rotate") : -1);
   Context ctx(1);
@@ -262,6 +291,19 @@ int CmdReconstruct(Registry& registry, const Args& args) {
   const auto t0 = std::chrono::steady_clock::now();
   registry.Get(method).factory(params)->Run(ctx, data);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (data.samples->dim == 2) {
+    if (!data.output_curve || data.output_curve->Empty()) throw Error(method + " produced an empty curve");
+    WritePolyline(args.positional[1], *data.output_curve);  // .obj/.txt/.poly ('v x y 0', 'l i j ...') or .svg
+    if (args.Has("--points")) {
+      if (!data.points) throw Error(method + " produced no oriented points to write to " + args.Get("--points"));
+      WritePointCloud(args.Get("--points"), *data.points);
+    }
+    const CurveTopology t = ComputeCurveTopology(*data.output_curve);
+    std::fprintf(stderr, "%s: %lld samples -> %d vertices, %d edges (%d components, %d open ends) in %.2f s -> %s\n",
+                 method.c_str(), static_cast<long long>(data.samples->Size()), data.output_curve->NumVertices(),
+                 data.output_curve->NumEdges(), t.components, t.open_ends, secs, args.positional[1].c_str());
+    return 0;
+  }
   if (!data.output || data.output->Empty()) throw Error(method + " produced an empty mesh");
   WriteMesh(args.positional[1], *data.output);
   if (args.Has("--points")) {
@@ -276,7 +318,18 @@ int CmdReconstruct(Registry& registry, const Args& args) {
 }
 
 int CmdShape(const Args& args) {
+  if (args.positional.size() == 1 && args.positional[0] == "list") {
+    std::printf("3D: sphere torus knot two_tori\n2D:");
+    for (const auto& c : BuiltinCurveNames()) std::printf(" %s", c.c_str());
+    std::printf("\n");
+    return 0;
+  }
   if (args.positional.size() != 2) Usage("shape needs NAME and OUT");
+  const auto curves = BuiltinCurveNames();
+  if (std::find(curves.begin(), curves.end(), args.positional[0]) != curves.end()) {
+    WritePolyline(args.positional[1], MakeBuiltinCurve(args.positional[0]));
+    return 0;
+  }
   WriteMesh(args.positional[1], MakeBuiltinShape(args.positional[0]));
   return 0;
 }
@@ -314,7 +367,7 @@ int main(int argc, char** argv) {
       return CmdRun(registry, a, argc, argv);
     }
     if (cmd == "table") return CmdTable(Parse(argc, argv, 2, {"--tables"}, {}));
-    if (cmd == "sdf") return CmdSdf(Parse(argc, argv, 2, {"--n", "--random", "--rotate"}, {"--no-normalize"}));
+    if (cmd == "sdf") return CmdSdf(Parse(argc, argv, 2, {"--n", "--random", "--rotate"}, {"--no-normalize", "--curve"}));
     if (cmd == "eval") return CmdEval(Parse(argc, argv, 2, {"--samples", "--sdf"}, {"--no-normalize"}));
     if (cmd == "reconstruct") {
       const Args a = Parse(argc, argv, 2, {"--plugin", "--method", "--param", "--seed", "--threads", "--points"}, {});
