@@ -14,7 +14,9 @@ namespace arcs {
 namespace {
 
 bool HasColumn(const Case& c, const std::string& name) {
-  static const std::vector<std::string> fixed = {"method", "item", "dataset", "input", "ref_genus"};
+  // Columns the runner writes for every case (ref_* describe the reference).
+  static const std::vector<std::string> fixed = {"method", "item", "dataset", "input", "seed",
+                                                 "ref_genus", "ref_faces", "ref_closed", "ref_components"};
   if (std::find(fixed.begin(), fixed.end(), name) != fixed.end()) return true;
   for (const auto& [k, v] : c.params)
     if (k == name || (k.size() > name.size() && k.compare(k.size() - name.size() - 1, std::string::npos, "." + name) == 0))
