@@ -10,6 +10,7 @@
 #include "framework/io/sdf_io.h"
 #include "framework/util/parallel.h"
 #include "framework/voxel/morph.h"
+#include "framework/voxel/voxelize.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -105,7 +106,7 @@ int CmdMorph(Registry& registry, int argc, char** argv) {
     if (t.Empty()) throw Error(target_spec + ": the target mesh has no faces");
     const Similarity sim = Normalize(&t, NormalizeOptions{});
     to_out = sim.Inverse();
-    target.info = MorphCubeGrid(res, -0.55, 0.55);
+    target.info = CubeGrid(res, Vec3::Constant(-0.55), Vec3::Constant(0.55));
     target.values = HardOccupancy(t, target.info);
   }
   ThreadLimit limit(threads);

@@ -1,6 +1,8 @@
 // Mesh morphing (Luo et al. §2.4) with active-set sampling and Adam.
 #include "framework/voxel/morph.h"
 
+#include "framework/voxel/voxelize.h"
+
 #include "framework/error.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/spatial/topology.h"
@@ -15,31 +17,8 @@
 
 namespace arcs {
 
-MatrixX3d MorphGridNodes(const GridInfo& g) {
-  const std::int64_t n = g.NumNodes();
-  MatrixX3d Q(n, 3);
-  auto coord = [&](int a, int i) {
-    return g.dims[a] > 1 ? g.min[a] + (g.max[a] - g.min[a]) * i / (g.dims[a] - 1) : g.min[a];
-  };
-  std::int64_t idx = 0;
-  for (int k = 0; k < g.dims[2]; ++k)
-    for (int j = 0; j < g.dims[1]; ++j)
-      for (int i = 0; i < g.dims[0]; ++i, ++idx) Q.row(idx) << coord(0, i), coord(1, j), coord(2, k);
-  return Q;
-}
-
-GridInfo MorphCubeGrid(int res, double lo, double hi) {
-  ARCS_CHECK_OPTION(res >= 2, "res", res, ">= 2");
-  GridInfo g;
-  g.dim = 3;
-  g.dims = {res, res, res};
-  g.min = {lo, lo, lo};
-  g.max = {hi, hi, hi};
-  return g;
-}
-
 VectorXd HardOccupancy(const Mesh& mesh, const GridInfo& grid) {
-  const MatrixX3d Q = MorphGridNodes(grid);
+  const MatrixX3d Q = GridNodes(grid);
   VectorXd w = FastWindingNumber(mesh).Eval(Q);
   for (Eigen::Index i = 0; i < w.size(); ++i) w[i] = w[i] > 0.5 ? 1.0 : 0.0;
   return w;
@@ -74,7 +53,7 @@ struct OccupiedStats {
 };
 OccupiedStats Occupied(const VolumeGrid& t) {
   CheckTarget(t);
-  const MatrixX3d Q = MorphGridNodes(t.info);
+  const MatrixX3d Q = GridNodes(t.info);
   OccupiedStats s;
   for (Eigen::Index i = 0; i < Q.rows(); ++i) {
     if (!(t.values[i] > 0.5)) continue;
@@ -230,7 +209,7 @@ MorphResult MorphToOccupancy(const Mesh& source, const VolumeGrid& target, const
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
 
   const GridInfo& g = target.info;
-  const MatrixX3d nodes = MorphGridNodes(g);
+  const MatrixX3d nodes = GridNodes(g);
   const std::int64_t n_nodes = nodes.rows();
   VectorXd t = target.values;
   for (Eigen::Index i = 0; i < t.size(); ++i) t[i] = t[i] > 0.5 ? 1.0 : 0.0;

@@ -36,11 +36,6 @@
 
 namespace arcs {
 
-// Grid nodes (GridInfo order, x fastest) as points.
-MatrixX3d MorphGridNodes(const GridInfo& grid);
-
-// A cube grid of res³ nodes over [lo, hi]³.
-GridInfo MorphCubeGrid(int res, double lo, double hi);
 
 // Hard occupancy (1 inside, 0 outside) of `mesh` at every grid node: fast
 // winding number w > 0.5 (agrees with the exact sum near the surface; see

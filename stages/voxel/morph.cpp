@@ -1,6 +1,7 @@
 // morph: deform an icosphere so that its soft occupancy matches a target
 // occupancy grid (Luo et al. §2.4; framework/voxel/morph.h).
 #include "framework/voxel/morph.h"
+#include "framework/voxel/voxelize.h"
 
 #include "stages/builtin.h"
 
@@ -16,7 +17,7 @@ GridInfo GridAround(const Mesh& m, int res) {
   const Vec3 lo = m.V.colwise().minCoeff().transpose(), hi = m.V.colwise().maxCoeff().transpose();
   const Vec3 c = 0.5 * (lo + hi);
   const double half = 0.55 * (hi - lo).maxCoeff();
-  GridInfo g = MorphCubeGrid(res, 0.0, 1.0);
+  GridInfo g = CubeGrid(res, Vec3::Constant(0.0), Vec3::Constant(1.0));
   for (int a = 0; a < 3; ++a) {
     g.min[a] = c[a] - half;
     g.max[a] = c[a] + half;

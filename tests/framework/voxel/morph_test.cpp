@@ -4,6 +4,7 @@
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/util/parallel.h"
 #include "framework/voxel/morph.h"
+#include "framework/voxel/voxelize.h"
 
 #include <gtest/gtest.h>
 
@@ -23,7 +24,7 @@ VolumeGrid BlobTarget(int res) {
   }
   const Mesh s = MakeIcosphere(0.16, 3, Vec3(0.3, 0.14, 0.02));
   VolumeGrid t;
-  t.info = MorphCubeGrid(res, -0.55, 0.55);
+  t.info = CubeGrid(res, Vec3::Constant(-0.55), Vec3::Constant(0.55));
   t.values = HardOccupancy(Concatenate({e, s}), t.info);
   return t;
 }
@@ -81,7 +82,7 @@ TEST(MorphTest, SameMeshAtOneAndTwoThreads) {
 
 TEST(MorphTest, InitialSphereHasTheTargetsVolumeAndCentre) {
   VolumeGrid t;
-  t.info = MorphCubeGrid(40, -1, 1);
+  t.info = CubeGrid(40, Vec3::Constant(-1), Vec3::Constant(1));
   t.values = HardOccupancy(MakeIcosphere(0.5, 4, Vec3(0.2, -0.1, 0.05)), t.info);
   const Mesh s = InitialSphere(t, 3);
   const Vec3 c = s.V.colwise().mean().transpose();
@@ -121,7 +122,7 @@ TEST(MorphTest, BadInputIsAClearError) {
   VolumeGrid wrong = target;
   wrong.values.resize(5);
   EXPECT_THROW(MorphToOccupancy(MakeIcosphere(0.2, 1), wrong, {}, ctx), Error);
-  EXPECT_THROW(MorphCubeGrid(1, 0, 1), OptionError);
+  EXPECT_THROW(CubeGrid(1, Vec3::Constant(0), Vec3::Constant(1)), OptionError);
 }
 
 }  // namespace
