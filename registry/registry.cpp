@@ -105,4 +105,16 @@ ParamMap Registry::Resolve(const std::string& stage, const ParamMap& given) cons
   return out;
 }
 
+void RegisterFunctionStage(Registry& r, const std::string& name, Role role, const std::string& doc,
+                           ParamSchema params, std::vector<std::string> outputs, StageFn fn) {
+  StageInfo s;
+  s.name = name;
+  s.role = role;
+  s.doc = doc;
+  s.params = std::move(params);
+  s.outputs = std::move(outputs);
+  s.factory = FunctionStage(std::move(fn));
+  r.Register(std::move(s));
+}
+
 }  // namespace arcs

@@ -30,6 +30,11 @@ class Registry {
   std::vector<StageInfo> stages_;
 };
 
+// Registers a stage made from a plain function (the common thin adaptor):
+// fills StageInfo and calls r.Register (which refuses duplicate names).
+void RegisterFunctionStage(Registry& r, const std::string& name, Role role, const std::string& doc,
+                           ParamSchema params, std::vector<std::string> outputs, StageFn fn);
+
 // Edit distance (Levenshtein), used for suggestions.
 int EditDistance(const std::string& a, const std::string& b);
 

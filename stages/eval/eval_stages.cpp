@@ -9,14 +9,7 @@ namespace arcs {
 namespace {
 void Add(Registry& r, const std::string& name, const std::string& doc, ParamSchema params,
          std::vector<std::string> outputs, StageFn fn) {
-  StageInfo s;
-  s.name = name;
-  s.role = Role::kEvaluator;
-  s.doc = doc;
-  s.params = std::move(params);
-  s.outputs = std::move(outputs);
-  s.factory = FunctionStage(std::move(fn));
-  r.Register(std::move(s));
+  RegisterFunctionStage(r, name, Role::kEvaluator, doc, std::move(params), std::move(outputs), std::move(fn));
 }
 }  // namespace
 

@@ -42,22 +42,10 @@ const Polyline& RequireOutputCurve(const CaseData& d, const std::string& stage) 
   return *d.output_curve;
 }
 
-void Add(Registry& r, const std::string& name, Role role, const std::string& doc, ParamSchema params,
-         std::vector<std::string> outputs, StageFn fn) {
-  StageInfo s;
-  s.name = name;
-  s.role = role;
-  s.doc = doc;
-  s.params = std::move(params);
-  s.outputs = std::move(outputs);
-  s.factory = FunctionStage(std::move(fn));
-  r.Register(std::move(s));
-}
-
 }  // namespace
 
 void RegisterPlanarStages(Registry& r) {
-  Add(r, "sdf_grid_2d", Role::kSdfSampler,
+  RegisterFunctionStage(r, "sdf_grid_2d", Role::kSdfSampler,
       "2D SDF of the reference curve at the (n+1)^2 nodes of linspace(lo,hi,n+1)^2 (paper protocol in the plane)",
       ParamSchema()
           .Int("n", 20, "grid cells per axis (Fig. 5 style: 10, 20, 40, ...)", 1, 16384)
@@ -70,7 +58,7 @@ void RegisterPlanarStages(Registry& r) {
         o.hi = p.GetDouble("hi");
         d.samples = SampleSdfGrid2D(RequireReferenceCurve(d, "sdf_grid_2d"), o, ctx);
       });
-  Add(r, "sdf_random_2d", Role::kSdfSampler, "2D SDF of the reference curve at `count` uniform points of [lo,hi]^2 (seeded)",
+  RegisterFunctionStage(r, "sdf_random_2d", Role::kSdfSampler, "2D SDF of the reference curve at `count` uniform points of [lo,hi]^2 (seeded)",
       ParamSchema()
           .Int("count", 441, "number of samples (441 = as many as a 20-cell grid)", 1, 100000000)
           .Double("lo", -1.0, "lower box bound on both axes")
@@ -79,7 +67,7 @@ void RegisterPlanarStages(Registry& r) {
         d.samples = SampleSdfRandom2D(RequireReferenceCurve(d, "sdf_random_2d"), p.GetInt("count"),
                                       p.GetDouble("lo"), p.GetDouble("hi"), ctx);
       });
-  Add(r, "marching_squares", Role::kSdfToMesh,
+  RegisterFunctionStage(r, "marching_squares", Role::kSdfToMesh,
       "marching squares on 2D grid SDF samples (linear interpolation on edges; the 2D MC baseline of Fig. 5)",
       ParamSchema().Double("level", 0.0, "iso-value extracted"), {}, [](Context&, CaseData& d, const ParamMap& p) {
         const SdfSamples& sm = d.RequireSamples("marching_squares");
@@ -88,7 +76,7 @@ void RegisterPlanarStages(Registry& r) {
         d.output_curve = ToPolyline(MarchingSquares(sm.values, *sm.grid, p.GetDouble("level")));
       });
   const Poisson2DOptions def;
-  Add(r, "screened_poisson_2d", Role::kReconstructor,
+  RegisterFunctionStage(r, "screened_poisson_2d", Role::kReconstructor,
       "2D screened Poisson (our own, on a regular grid): oriented 2D points -> closed polylines (RFTA's 2D sPSR)",
       ParamSchema()
           .Int("resolution", def.resolution,
@@ -113,14 +101,14 @@ void RegisterPlanarStages(Registry& r) {
         d.output_curve = ReconstructPoisson2D(*d.points, o, ctx, &info);
         d.SetMetric("poisson2d_resolution", info.resolution);
       });
-  Add(r, "chamfer_2d", Role::kEvaluator,
+  RegisterFunctionStage(r, "chamfer_2d", Role::kEvaluator,
       "the paper's Chamfer on curves: sqrt(mean d1^2) + sqrt(mean d2^2), nearest-sample distances between length-uniform samples",
       ParamSchema().Int("samples", 100000, "length-uniform samples per curve (sampling floor ~2e-5 at 10^5)", 1, 100000000),
       {"chamfer_2d"}, [](Context& ctx, CaseData& d, const ParamMap& p) {
         d.SetMetric("chamfer_2d", ChamferCurves(RequireOutputCurve(d, "chamfer_2d"), RequireReferenceCurve(d, "chamfer_2d"),
                                                 p.GetInt("samples"), ctx.StreamSeed("chamfer_2d")));
       });
-  Add(r, "hausdorff_2d", Role::kEvaluator,
+  RegisterFunctionStage(r, "hausdorff_2d", Role::kEvaluator,
       "two-sided Hausdorff between curves: max over vertices and length-uniform samples of each to the other curve",
       ParamSchema().Int("samples", 100000, "extra length-uniform samples per curve (0 = vertices only, the paper's bound)", 0,
                         100000000),
@@ -129,12 +117,12 @@ void RegisterPlanarStages(Registry& r) {
                                                     RequireReferenceCurve(d, "hausdorff_2d"), p.GetInt("samples"),
                                                     ctx.StreamSeed("hausdorff_2d")));
       });
-  Add(r, "e_sdf_2d", Role::kEvaluator,
+  RegisterFunctionStage(r, "e_sdf_2d", Role::kEvaluator,
       "the paper's SDF energy on curves: 1000 * mean_i (|s_i| - dist(p_i, output curve))^2 over the 2D input samples",
       ParamSchema(), {"e_sdf_2d"}, [](Context&, CaseData& d, const ParamMap&) {
         d.SetMetric("e_sdf_2d", EnergySdf2D(d.RequireSamples("e_sdf_2d"), RequireOutputCurve(d, "e_sdf_2d")));
       });
-  Add(r, "topology_2d", Role::kEvaluator,
+  RegisterFunctionStage(r, "topology_2d", Role::kEvaluator,
       "output curve structure: components, closed components, open ends, branch vertices, holes (clockwise loops)",
       ParamSchema(),
       {"out_curve_components", "out_curve_closed_components", "out_curve_open_ends", "out_curve_branch_vertices",
