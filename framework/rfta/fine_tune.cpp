@@ -359,6 +359,52 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
              std::to_string(stats.tangent) + " tangent, " + std::to_string(stats.dropped) + " dropped");
     ctx.Progress(static_cast<double>(it + 1) / options.iterations, "fine-tuning");
   }
+  if (options.final_check != FineTuneOptions::FinalCheck::kOff) {
+    ctx.CheckStop();
+    std::vector<int> ids(ns);
+    for (int g = 0; g < ns; ++g) ids[g] = g;
+    const SphereTree full(all.centers, all.radii, ids);
+    const double local_radius = 2.0 / SamplesPerAxis(split.num_samples, samples.dim);
+    const bool repair = options.final_check == FineTuneOptions::FinalCheck::kRepair;
+    std::vector<int> infeasible(ns, 0), repaired(ns, 0);
+    ParallelFor(ns, [&](std::int64_t begin, std::int64_t end) {
+      SphereTree::LocalSet local_set;
+      for (std::int64_t gi = begin; gi < end; ++gi) {
+        const int g = static_cast<int>(gi);
+        if (pts[g].empty()) continue;
+        const Vec3 c = all.centers.row(g).transpose();
+        const double r = all.radii[g];
+        const SphereTree::LocalSet* local = nullptr;
+        if (r <= local_radius) {
+          const Vec3 margin = Vec3::Constant(r + 2 * options.tol);
+          full.CollectLocal(c - margin, c + margin, options.tol, &local_set);
+          local = &local_set;
+        }
+        std::vector<Vec3> keep;
+        keep.reserve(pts[g].size());
+        for (Vec3 x : pts[g]) {
+          if (!full.AnyContains(x, -options.tol, g, local)) {
+            keep.push_back(x);
+            continue;
+          }
+          ++infeasible[g];
+          if (repair && MakeFeasible(full, c, r, g, mf, &x, nullptr, local)) {
+            keep.push_back(x);
+            ++repaired[g];
+          }
+        }
+        pts[g].swap(keep);
+      }
+    }, 64);
+    for (int g = 0; g < ns; ++g) {
+      result.final_infeasible += infeasible[g];
+      result.final_repaired += repaired[g];
+    }
+    ctx.Info("fine_tune: final check against all " + std::to_string(ns) + " spheres: " +
+             std::to_string(result.final_infeasible) + " points inside another sphere, " +
+             std::to_string(result.final_repaired) + " repaired, " +
+             std::to_string(result.final_infeasible - result.final_repaired) + " dropped");
+  }
   to_cloud(&result);
   return result;
 }

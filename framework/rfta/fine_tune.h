@@ -50,6 +50,13 @@ struct FineTuneOptions {
   // Alg. 3 line 11) when false; keep all their points, the closest moved,
   // when true.
   bool keep_points_when_missed = false;
+  // After the last iteration, every point is checked against all spheres, not
+  // only a batch (the batches of §4.2 leave points that some other sphere
+  // contains, i.e. points the SDF data rules out as surface points). kRepair:
+  // Alg. 2 against all spheres, dropping the points it cannot fix; kDrop:
+  // drop them; kOff: keep them (the paper's algorithm as written).
+  enum class FinalCheck { kOff, kDrop, kRepair };
+  FinalCheck final_check = FinalCheck::kOff;
   void Check() const;
 };
 
@@ -96,6 +103,11 @@ struct FineTuneResult {
   std::vector<FineTuneIteration> iterations;
   bool stopped_early = false;  // the reconstructor failed or gave an empty mesh: the last good points are kept
   std::string stop_reason;
+  // The final check against all spheres (FineTuneOptions::final_check):
+  // points found inside another sphere by more than tol, and of those, the
+  // ones Alg. 2 moved back onto a feasible arc (the rest were dropped).
+  std::int64_t final_infeasible = 0;
+  std::int64_t final_repaired = 0;
 };
 
 // Runs k_max fine-tuning iterations from the tangency points `initial`

@@ -30,6 +30,9 @@ void RegisterFineTune(Registry& r) {
             "no feasible step: jump to the target and repair it by Alg. 2 (official) instead of staying")
       .Bool("keep_points_when_missed", false,
             "spheres the surface misses keep all their points (false: only the moved one, paper Alg. 3)")
+      .Choice("final_check", "off", {"off", "drop", "repair"},
+              "after the last iteration, points inside any sphere (all of them, not a batch) by more than tol: "
+              "kept (off, the paper), dropped, or repaired by Alg. 2 against all spheres (dropped if that fails)")
       .Stage("reconstructor", "reconstructor", "screened_poisson",
              "surface reconstructor the points are tuned against (paper: screened Poisson)");
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
@@ -46,12 +49,22 @@ void RegisterFineTune(Registry& r) {
     o.tol = p.GetDouble("tol");
     o.jump_when_blocked = p.GetBool("jump_when_blocked");
     o.keep_points_when_missed = p.GetBool("keep_points_when_missed");
+    {
+      const std::string fc = p.GetString("final_check");
+      o.final_check = fc == "drop"     ? FineTuneOptions::FinalCheck::kDrop
+                      : fc == "repair" ? FineTuneOptions::FinalCheck::kRepair
+                                       : FineTuneOptions::FinalCheck::kOff;
+    }
     o.pair_choice = p.GetString("pair_choice") == "first" ? PairChoice::kFirst : PairChoice::kClosest;
     auto record = [&](FineTuneResult res) {
       d.points = std::move(res.points);
       d.point_sample = std::move(res.sample);
       d.SetMetric("rfta_points", static_cast<double>(d.points->Size()));
       d.SetMetric("fine_tune_iterations", static_cast<double>(res.iterations.size()));
+      if (o.final_check != FineTuneOptions::FinalCheck::kOff) {
+        d.SetMetric("final_infeasible", static_cast<double>(res.final_infeasible));
+        d.SetMetric("final_repaired", static_cast<double>(res.final_repaired));
+      }
       double rec_s = 0;
       for (const auto& it : res.iterations) rec_s += it.reconstruct_s;
       d.SetMetric("fine_tune_reconstruct_s", rec_s);

@@ -39,6 +39,9 @@ void RegisterRfta(Registry& r) {
              "at least 4 points per leaf, no re-solve of open surfaces (these surfaces only steer the points; "
              "bunny_fixed n=20 paper preset: 17.3 s, Chamfer 0.0177, against 26.2 s, 0.0166 at 1.5 points "
              "per leaf; official 227 s, 0.0219)")
+      .Choice("final_check", "off", {"off", "drop", "repair"},
+              "fine_tune's check of the tuned points against all spheres before the final reconstruction "
+              "(off: the paper; drop / repair: see fine_tune)")
       .Choice("on_sign_conflict", "warn", {"warn", "error", "ignore"},
               "positive and negative spheres that overlap (not an SDF; noisy SDFs, Fig. 23, have some): "
               "warn and go on, fail the case, or say nothing");
@@ -57,6 +60,7 @@ void RegisterRfta(Registry& r) {
     ft.Set("iterations", p.GetInt("iterations"));
     ft.Set("max_points_per_sphere", p.GetInt("max_points_per_sphere"));
     ft.Set("batch_size", p.GetInt("batch_size"));
+    ft.Set("final_check", p.GetString("final_check"));
     ft.Set("reconstructor", p.Get("tuning_reconstructor"));
     {
       const SdfSamples& samples = d.RequireSamples("rfta");

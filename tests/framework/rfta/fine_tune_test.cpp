@@ -110,5 +110,67 @@ TEST(FineTune, BadInputIsAClearError) {
   EXPECT_THROW(FineTune(positive, s.a0.points, s.a0.sample, FitBall, FineTuneOptions{}, Context(1)), Error);
 }
 
+// Points inside another sphere (as batches leave them): the final check
+// against all spheres drops or repairs them; off keeps them (the paper).
+TEST(FineTune, FinalCheckRemovesOrRepairsPointsInsideOtherSpheres) {
+  BallCase s;
+  // Every point as projected, plus, for some outside spheres, the far side of
+  // the sphere (away from the ball): deep inside the spheres farther out.
+  PointCloud pc = s.a0.points;
+  std::vector<int> sample = s.a0.sample;
+  std::vector<Vec3> extra;
+  std::vector<int> extra_sample;
+  for (int i = 0; i < s.samples.Size() && extra.size() < 40; i += 7) {
+    const Vec3 p = s.samples.points.row(i).transpose();
+    const double v = s.samples.values[i];
+    if (v < 0.05 || p.norm() > 0.4) continue;
+    extra.push_back(p + v * p.normalized());
+    extra_sample.push_back(i);
+  }
+  ASSERT_GE(extra.size(), 10u);
+  const int n0 = pc.Size();
+  pc.P.conservativeResize(n0 + static_cast<int>(extra.size()), 3);
+  pc.N.conservativeResize(n0 + static_cast<int>(extra.size()), 3);
+  for (size_t k = 0; k < extra.size(); ++k) {
+    pc.P.row(n0 + k) = extra[k].transpose();
+    pc.N.row(n0 + k) = extra[k].normalized().transpose();
+    sample.push_back(extra_sample[k]);
+  }
+  auto max_depth = [&](const FineTuneResult& r) {
+    double worst = -1;
+    for (int j = 0; j < r.points.Size(); ++j) {
+      const Vec3 x = r.points.P.row(j).transpose();
+      for (int k = 0; k < s.samples.Size(); ++k) {
+        if (k == r.sample[j]) continue;
+        worst = std::max(worst, std::abs(s.samples.values[k]) - (x - Vec3(s.samples.points.row(k).transpose())).norm());
+      }
+    }
+    return worst;
+  };
+  FineTuneOptions o;
+  o.iterations = 0;
+  const FineTuneResult off = FineTune(s.samples, pc, sample, FitBall, o, Context(3));
+  EXPECT_EQ(off.points.Size(), pc.Size());
+  EXPECT_GT(max_depth(off), 0.05) << "the far-side points are deep inside other spheres";
+
+  o.final_check = FineTuneOptions::FinalCheck::kDrop;
+  const FineTuneResult drop = FineTune(s.samples, pc, sample, FitBall, o, Context(3));
+  EXPECT_EQ(drop.final_infeasible, static_cast<std::int64_t>(extra.size()));
+  EXPECT_EQ(drop.final_repaired, 0);
+  EXPECT_EQ(drop.points.Size(), n0);
+  EXPECT_LT(max_depth(drop), 2e-4);
+
+  o.final_check = FineTuneOptions::FinalCheck::kRepair;
+  const FineTuneResult rep = FineTune(s.samples, pc, sample, FitBall, o, Context(3));
+  EXPECT_EQ(rep.final_infeasible, static_cast<std::int64_t>(extra.size()));
+  EXPECT_GT(rep.final_repaired, 0);
+  EXPECT_EQ(rep.points.Size(), n0 + rep.final_repaired);
+  EXPECT_LT(max_depth(rep), 2e-4);
+  for (int j = 0; j < rep.points.Size(); ++j) {
+    const int i = rep.sample[j];
+    EXPECT_NEAR((rep.points.P.row(j) - s.samples.points.row(i)).norm(), std::abs(s.samples.values[i]), 1e-9);
+  }
+}
+
 }  // namespace
 }  // namespace arcs
