@@ -90,6 +90,17 @@ Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double ste
   return jump_when_blocked ? q : p;
 }
 
+// Spheres up to local_radius scan a short list of the constraint balls near
+// them (identical answers, far fewer tree traversals); larger ones query the
+// tree. Returns the list to pass to the queries, or nullptr.
+const SphereTree::LocalSet* LocalFor(const SphereTree& tree, const Vec3& c, double r, double local_radius,
+                                     double tol, SphereTree::LocalSet* set) {
+  if (r > local_radius) return nullptr;
+  const Vec3 margin = Vec3::Constant(r + 2 * tol);
+  tree.CollectLocal(c - margin, c + margin, tol, set);
+  return set;
+}
+
 // The 3D surface: closest points by the triangle BVH, inside by the fast
 // winding number (as before the TuningSurface interface existed).
 class MeshTuningSurface final : public TuningSurface {
@@ -157,6 +168,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
   mf.k_search = options.local_searches > 0 ? options.local_searches : LocalSearchHeuristic(split.num_samples, samples.dim);
   mf.tol = options.tol;
   mf.pair_choice = options.pair_choice;
+  const double local_radius = 2.0 / SamplesPerAxis(split.num_samples, samples.dim);
 
   // Current tangency points per sphere (unit frame).
   std::vector<std::vector<Vec3>> pts(ns);
@@ -239,9 +251,6 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
     std::vector<signed char> kind(ns, 0);  // 1 intersected, 2 too far, 3 tangent
     std::vector<char> second(ns, 0);
     std::vector<int> dropped(ns, 0);
-    // Spheres up to this radius scan a short list of the constraint balls
-    // near them (identical answers, far fewer tree traversals).
-    const double local_radius = 2.0 / SamplesPerAxis(split.num_samples, samples.dim);
     ParallelFor(ns, [&](std::int64_t begin, std::int64_t end) {
       SphereTree::LocalSet local_set;
       for (std::int64_t gi = begin; gi < end; ++gi) {
@@ -249,12 +258,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         if (!all.wants_point[g]) continue;
         const Vec3 c = all.centers.row(g).transpose();
         const double r = all.radii[g];
-        const SphereTree::LocalSet* local = nullptr;
-        if (r <= local_radius) {
-          const Vec3 margin = Vec3::Constant(r + 2 * options.tol);
-          tree.CollectLocal(c - margin, c + margin, options.tol, &local_set);
-          local = &local_set;
-        }
+        const SphereTree::LocalSet* local = LocalFor(tree, c, r, local_radius, options.tol, &local_set);
         const double d = std::sqrt(sqd[g]);
         // proj_onto(): the side flips when the surface puts the centre on the wrong side.
         const double sigma = (all.sign[g] < 0 ? -1.0 : 1.0) * (w[g] > 0.5 ? -1.0 : 1.0);
@@ -364,7 +368,6 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
     std::vector<int> ids(ns);
     for (int g = 0; g < ns; ++g) ids[g] = g;
     const SphereTree full(all.centers, all.radii, ids);
-    const double local_radius = 2.0 / SamplesPerAxis(split.num_samples, samples.dim);
     const bool repair = options.final_check == FineTuneOptions::FinalCheck::kRepair;
     std::vector<int> infeasible(ns, 0), repaired(ns, 0);
     ParallelFor(ns, [&](std::int64_t begin, std::int64_t end) {
@@ -374,12 +377,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         if (pts[g].empty()) continue;
         const Vec3 c = all.centers.row(g).transpose();
         const double r = all.radii[g];
-        const SphereTree::LocalSet* local = nullptr;
-        if (r <= local_radius) {
-          const Vec3 margin = Vec3::Constant(r + 2 * options.tol);
-          full.CollectLocal(c - margin, c + margin, options.tol, &local_set);
-          local = &local_set;
-        }
+        const SphereTree::LocalSet* local = LocalFor(full, c, r, local_radius, options.tol, &local_set);
         std::vector<Vec3> keep;
         keep.reserve(pts[g].size());
         for (Vec3 x : pts[g]) {
