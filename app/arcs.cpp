@@ -43,8 +43,9 @@ usage: arcs <command> [options]
 
 commands:
   run EXP.yaml [--set path.to.param=value]... [--jobs N] [--threads T] [--out DIR]
-               [--retry-failed] [--no-isolate] [--quiet]
-                             expand the experiment into cases and run them; resumes
+               [--retry-failed] [--no-isolate] [--quiet] [--save-outputs]
+                             expand the experiment into cases and run them; resumes;
+                             --save-outputs: each case's mesh/curve/points into DIR/outputs/
   table RESULTS_DIR [--tables EXP.yaml]
                              rebuild the tables from RESULTS_DIR/results.csv
   list                       every registered stage, by role
@@ -135,6 +136,7 @@ int CmdRun(Registry& registry, const Args& args, int argc, char** argv) {
   if (o.threads < 0) Usage("--threads must be >= 0");
   o.isolate = !args.Has("--no-isolate");
   o.retry_failed = args.Has("--retry-failed");
+  o.save_outputs = args.Has("--save-outputs");
   o.progress = !args.Has("--quiet");
   for (int i = 0; i < argc; ++i) o.command_line.push_back(argv[i]);
   const RunSummary s = RunExperiment(exp, registry, o);
@@ -362,7 +364,7 @@ int main(int argc, char** argv) {
     }
     if (cmd == "run") {
       const Args a = Parse(argc, argv, 2, {"--plugin", "--set", "--jobs", "--threads", "--out"},
-                           {"--retry-failed", "--no-isolate", "--quiet"});
+                           {"--retry-failed", "--no-isolate", "--quiet", "--save-outputs"});
       LoadPlugins(registry, a);
       return CmdRun(registry, a, argc, argv);
     }

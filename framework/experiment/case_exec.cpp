@@ -11,9 +11,11 @@
 #include "framework/util/parallel.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 namespace arcs {
 
@@ -45,9 +47,38 @@ void RunStages(const std::vector<StageSpec>& stages, const Registry& registry, C
   }
 }
 
+// Letters, digits and "._=-" stay; anything else becomes '_'.
+std::string FileSafe(const std::string& s) {
+  std::string out;
+  for (char ch : s) {
+    const bool keep = std::isalnum(static_cast<unsigned char>(ch)) || ch == '.' || ch == '_' || ch == '=' || ch == '-';
+    out += keep ? ch : '_';
+  }
+  return out;
+}
+
+// Writes through a temporary name, so an interrupted run leaves no partial file.
+template <class WriteFn>
+std::string WriteAtomically(const std::string& path, WriteFn write) {
+  namespace fs = std::filesystem;
+  const std::string part = path + ".part" + fs::path(path).extension().string();
+  write(part);
+  fs::rename(part, path);
+  return fs::path(path).filename().string();
+}
+
 }  // namespace
 
-Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Context::LogFn& log) {
+std::string OutputStem(const Case& c) {
+  std::string s = c.item;
+  for (const auto& [k, v] : c.params)
+    if (std::find(c.varying.begin(), c.varying.end(), k) != c.varying.end())
+      s += "_" + k.substr(k.rfind('.') + 1) + "=" + v;
+  return FileSafe(s + "__" + c.input + "__" + c.method) + "__" + c.id;
+}
+
+Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Context::LogFn& log,
+                const std::string& outputs_dir) {
   const auto t0 = std::chrono::steady_clock::now();
   ThreadLimit limit(threads);
   Row row;
@@ -150,6 +181,18 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
     }
     for (const auto& [k, v] : data.metrics) set(k, Num(v));
     data.metrics.clear();
+    if (!outputs_dir.empty()) {
+      const std::string base = (std::filesystem::path(outputs_dir) / OutputStem(c)).string();
+      if (data.output && !data.output->Empty())
+        set("output_file", WriteAtomically(base + ".ply", [&](const std::string& f) { WriteMesh(f, *data.output); }));
+      else if (data.output_curve && !data.output_curve->Empty())
+        set("output_file",
+            WriteAtomically(base + ".obj", [&](const std::string& f) { WritePolyline(f, *data.output_curve); }));
+      if (c.kind != "points" && data.points && data.points->Size() > 0)
+        set("output_points_file", WriteAtomically(base + "_points.ply", [&](const std::string& f) {
+              WritePointCloud(f, *data.points);
+            }));
+    }
 
     // 4. Metrics (same stream for every method).
     Context ectx(HashSeed(ctx.seed(), Fnv1a64("metrics")));

@@ -563,8 +563,8 @@ Experiment LoadExperiment(const std::string& path, const std::vector<std::string
   const std::string& f = path;
   const std::string base = fs::path(path).parent_path().string();
 
-  CheckKeys(f, doc, "", {"name", "description", "seed", "case_timeout_s", "plugins", "datasets", "inputs",
-                         "methods", "metrics", "tables"});
+  CheckKeys(f, doc, "", {"name", "description", "seed", "case_timeout_s", "save_outputs", "plugins", "datasets",
+                         "inputs", "methods", "metrics", "tables"});
   exp.name = doc["name"] ? GetString(f, doc["name"], "name") : fs::path(path).stem().string();
   if (doc["description"]) exp.description = GetString(f, doc["description"], "description");
   if (doc["seed"]) {
@@ -572,6 +572,7 @@ Experiment LoadExperiment(const std::string& path, const std::vector<std::string
     if (s < 0) Fail(f, doc["seed"], "seed", "must be >= 0");
     exp.seed = static_cast<std::uint64_t>(s);
   }
+  if (doc["save_outputs"]) exp.save_outputs = GetBool(f, doc["save_outputs"], "save_outputs");
   if (doc["case_timeout_s"]) {
     exp.case_timeout_s = GetDouble(f, doc["case_timeout_s"], "case_timeout_s");
     if (exp.case_timeout_s < 0) Fail(f, doc["case_timeout_s"], "case_timeout_s", "must be >= 0 (0 = none)");

@@ -89,6 +89,9 @@ struct Experiment {
   std::string description;
   std::uint64_t seed = 1;
   double case_timeout_s = 0;  // 0 = no limit
+  // Write each case's output (mesh, 2D curve, the method's oriented points)
+  // into <results>/outputs/ (also `arcs run --save-outputs`).
+  bool save_outputs = false;
   std::vector<std::string> plugins;
   std::vector<DatasetSpec> datasets;
   std::vector<PipelineSpec> inputs;

@@ -214,6 +214,9 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
   const std::string out = options.out_dir.empty() ? DefaultOutDir(exp) : options.out_dir;
   fs::create_directories(fs::path(out) / "logs");
   fs::create_directories(fs::path(out) / "tmp");
+  const std::string outputs_dir =
+      options.save_outputs || exp.save_outputs ? (fs::path(out) / "outputs").string() : std::string();
+  if (!outputs_dir.empty()) fs::create_directories(outputs_dir);
   const int jobs = std::max(1, options.jobs);
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int threads = options.threads > 0 ? options.threads : std::max(1, cores / jobs);
@@ -320,7 +323,7 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
     for (const Case* c : todo) {
       if (g_interrupted) break;
       progress("running: " + c->Label());
-      record(*c, ExecuteCase(*c, registry, threads, log_for(*c)));
+      record(*c, ExecuteCase(*c, registry, threads, log_for(*c), outputs_dir));
     }
   } else {
     size_t next = 0;
@@ -337,7 +340,7 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
         if (pid == 0) {
           signal(SIGINT, SIG_DFL);
           signal(SIGTERM, SIG_DFL);
-          Row row = ExecuteCase(*c, registry, threads, log_for(*c));
+          Row row = ExecuteCase(*c, registry, threads, log_for(*c), outputs_dir);
           WriteRowFile((fs::path(out) / "tmp" / (c->id + ".row")).string(), row);
           std::fflush(nullptr);
           _exit(0);

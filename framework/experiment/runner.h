@@ -14,8 +14,17 @@ using Row = std::vector<std::pair<std::string, std::string>>;
 
 // Runs one case in this process and returns its results row (status "ok" or
 // "failed" with the error message; never throws for a case's own failure).
-// `threads` limits the case's parallelism (0 = all cores).
-Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Context::LogFn& log);
+// `threads` limits the case's parallelism (0 = all cores). With
+// `outputs_dir`, the method's output is written there (see OutputStem): the
+// mesh as <stem>.ply, a 2D curve as <stem>.obj, and, for datasets that are not
+// point clouds, the method's oriented points (RFTA's tangency points) as
+// <stem>_points.ply; all in the case's normalised frame, the reference's.
+Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Context::LogFn& log,
+                const std::string& outputs_dir = {});
+
+// File stem of a case's saved output: item, the varying parameters, input
+// and method, then the case id (unique), e.g. "bunny_n=20__grid__RFTA__1a2b...".
+std::string OutputStem(const Case& c);
 
 struct RunOptions {
   std::string out_dir;          // results directory (created)
@@ -23,6 +32,7 @@ struct RunOptions {
   int threads = 0;              // threads per case (0 = cores / jobs, at least 1)
   bool isolate = true;          // each case in a forked worker process
   bool retry_failed = false;    // re-run cases recorded as failed
+  bool save_outputs = false;    // also when the experiment says save_outputs: write outputs/ (ExecuteCase)
   bool progress = true;         // progress line on stderr
   std::vector<std::string> command_line;  // for provenance
 };
