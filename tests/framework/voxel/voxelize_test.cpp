@@ -96,7 +96,9 @@ TEST(Voxelize, NodesOnTheSurfaceAndInwardOrientation) {
     // +-1/2 up to rounding, may differ); as_is gives nothing inside.
     const VolumeGrid vi = Voxelize(Flipped(*m), g, {});
     EXPECT_EQ(Differences(vi.values, Voxelize(Flipped(*m), g, exact).values), 0);
-    if (m == &s) EXPECT_EQ(Differences(vi.values, ve.values), 0);
+    if (m == &s) {
+      EXPECT_EQ(Differences(vi.values, ve.values), 0);
+    }
     VoxelizeOptions as_is;
     as_is.orientation = "as_is";
     EXPECT_EQ(Voxelize(Flipped(*m), g, as_is).values.sum(), 0.0);
@@ -190,7 +192,9 @@ TEST(Voxelize, DegenerateInputNeverNaN) {
         EXPECT_EQ(rep.dropped_faces, 2);
         for (std::int64_t i = 0; i < v.values.size(); ++i)
           ASSERT_TRUE(std::isfinite(v.values[i])) << method << " " << rule << " " << out;
-        if (method != "naive" && out == "occupancy") EXPECT_GT(v.values.sum(), 100) << method << " " << rule;
+        if (method != "naive" && out == "occupancy") {
+          EXPECT_GT(v.values.sum(), 100) << method << " " << rule;
+        }
       }
   // Empty mesh: all zero; NaN coordinates and bad indices: InputError.
   EXPECT_EQ(Voxelize(Mesh{}, g, {}).values.sum(), 0.0);
