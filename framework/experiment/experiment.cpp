@@ -533,6 +533,19 @@ std::vector<TableSpec> ParseTables(const std::string& f, const YAML::Node& node,
   return tables;
 }
 
+namespace {
+// Tables with columns "method" list the methods in the experiment's order
+// (not in the order cases happened to finish).
+void OrderColumnsByMethods(const YAML::Node& doc, std::vector<TableSpec>* specs) {
+  std::vector<std::string> names;
+  if (doc["methods"] && doc["methods"].IsSequence())
+    for (const auto& m : doc["methods"])
+      if (m.IsMap() && m["name"] && m["name"].IsScalar()) names.push_back(m["name"].Scalar());
+  for (auto& t : *specs)
+    if (t.columns == "method") t.column_order = names;
+}
+}  // namespace
+
 std::vector<TableSpec> LoadTableSpecs(const std::string& path) {
   YAML::Node doc;
   try {
@@ -541,7 +554,9 @@ std::vector<TableSpec> LoadTableSpecs(const std::string& path) {
     throw ExperimentError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
   if (!doc.IsMap() || !doc["tables"]) return {};
-  return ParseTables(path, doc["tables"], fs::path(path).parent_path().string());
+  std::vector<TableSpec> specs = ParseTables(path, doc["tables"], fs::path(path).parent_path().string());
+  OrderColumnsByMethods(doc, &specs);
+  return specs;
 }
 
 Experiment LoadExperiment(const std::string& path, const std::vector<std::string>& overrides,
@@ -701,7 +716,10 @@ Experiment LoadExperiment(const std::string& path, const std::vector<std::string
     }
   }
 
-  if (doc["tables"]) exp.tables = ParseTables(f, doc["tables"], base);
+  if (doc["tables"]) {
+    exp.tables = ParseTables(f, doc["tables"], base);
+    OrderColumnsByMethods(doc, &exp.tables);
+  }
 
   exp.resolved = YAML::Clone(doc);
   return exp;

@@ -81,6 +81,10 @@ struct TableSpec {
   std::vector<GroupSpec> groups;    // default: one group "all"
   std::vector<ReferenceSpec> references;
   std::string format = "%.4g";      // printf format of cells
+  // Order of the column keys (from the experiment: its methods' YAML order
+  // when columns is "method"); keys not listed follow in first-appearance
+  // order. Without it, text keys keep first-appearance order.
+  std::vector<std::string> column_order;
 };
 
 struct Experiment {

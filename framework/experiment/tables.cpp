@@ -178,6 +178,14 @@ std::vector<BuiltTable> BuildTables(const std::vector<TableSpec>& specs, const C
       }
       SortKeys(&row_keys, false);
       SortKeys(&col_keys, true);
+      if (!spec.column_order.empty()) {
+        auto rank = [&](const std::string& k) {
+          const auto it = std::find(spec.column_order.begin(), spec.column_order.end(), k);
+          return it - spec.column_order.begin();  // unlisted keys rank last, in their order
+        };
+        std::stable_sort(col_keys.begin(), col_keys.end(),
+                         [&](const std::string& a, const std::string& b) { return rank(a) < rank(b); });
+      }
       // Reference rows may have keys we have no results for; include them? No:
       // rows follow our results, the reference sits beside.
 

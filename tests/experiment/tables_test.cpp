@@ -1,9 +1,11 @@
 #include "framework/experiment/csv.h"
+#include "framework/experiment/experiment.h"
 #include "framework/experiment/tables.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 
 namespace arcs {
@@ -47,6 +49,31 @@ TEST(TablesTest, GroupsAggregateAndSortRowsNumerically) {
   EXPECT_EQ(BuildTables({spec}, Results(), &warnings)[0].cells[0][1], "3.000");
   spec.aggregate = "count";
   EXPECT_EQ(BuildTables({spec}, Results(), &warnings)[0].cells[0][1], "3");
+}
+
+// Cases finish in any order with --jobs > 1: the method columns follow the
+// experiment's order of methods, not the rows' order.
+TEST(TablesTest, MethodColumnsFollowTheExperimentOrder) {
+  CsvTable r = Results();
+  std::rotate(r.rows.begin(), r.rows.begin() + 6, r.rows.end());  // RFTA rows first
+  TableSpec spec;
+  spec.name = "t";
+  spec.metrics = {"chamfer"};
+  spec.rows = "n";
+  EXPECT_EQ(BuildTables({spec}, r, nullptr)[0].header,
+            (std::vector<std::string>{"n", "chamfer RFTA", "chamfer MC"}))
+      << "without an order, first appearance";
+  spec.column_order = {"MC", "RFTA"};
+  EXPECT_EQ(BuildTables({spec}, r, nullptr)[0].header, (std::vector<std::string>{"n", "chamfer MC", "chamfer RFTA"}));
+  // Read from an experiment file's methods.
+  const auto dir = testing::TempDir("tables_order");
+  std::ofstream(dir / "e.yaml") << "methods:\n  - name: MC\n    pipeline: [marching_cubes]\n"
+                                   "  - name: RFTA\n    pipeline: [rfta]\n"
+                                   "tables:\n  - name: t\n    metrics: [chamfer]\n    rows: n\n";
+  const auto specs = LoadTableSpecs((dir / "e.yaml").string());
+  ASSERT_EQ(specs.size(), 1u);
+  EXPECT_EQ(specs[0].column_order, (std::vector<std::string>{"MC", "RFTA"}));
+  EXPECT_EQ(BuildTables(specs, r, nullptr)[0].header, (std::vector<std::string>{"n", "chamfer MC", "chamfer RFTA"}));
 }
 
 TEST(TablesTest, ReferenceColumnsSitBesideOurs) {
