@@ -70,11 +70,10 @@ std::string WriteAtomically(const std::string& path, WriteFn write) {
 }  // namespace
 
 std::string OutputStem(const Case& c) {
-  std::string s = c.item;
-  for (const auto& [k, v] : c.params)
-    if (std::find(c.varying.begin(), c.varying.end(), k) != c.varying.end())
-      s += "_" + k.substr(k.rfind('.') + 1) + "=" + v;
-  return FileSafe(s + "__" + c.input + "__" + c.method) + "__" + c.id;
+  // The case's label ("bunny n=20 | grid | MC") with " | " as "__", made file-safe.
+  std::string s = c.Label();
+  for (size_t pos; (pos = s.find(" | ")) != std::string::npos;) s.replace(pos, 3, "__");
+  return FileSafe(s) + "__" + c.id;
 }
 
 Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Context::LogFn& log,
