@@ -169,6 +169,8 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
   mf.tol = options.tol;
   mf.pair_choice = options.pair_choice;
   const double local_radius = 2.0 / SamplesPerAxis(split.num_samples, samples.dim);
+  std::vector<int> ids(ns);  // sphere trees name the spheres by their index
+  for (int g = 0; g < ns; ++g) ids[g] = g;
 
   // Current tangency points per sphere (unit frame).
   std::vector<std::vector<Vec3>> pts(ns);
@@ -242,8 +244,6 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
     // 3. The constraint batch (both signs), drawn without replacement.
     t0 = Clock::now();
     const std::vector<int> batch = DrawBatch(ns, options.batch_size, rng);
-    std::vector<int> ids(ns);
-    for (int g = 0; g < ns; ++g) ids[g] = g;
     const SphereTree tree(all.centers, all.radii, ids, &batch);
 
     // 4. Per sphere: move, add, second chance, make feasible.
@@ -365,8 +365,6 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
   }
   if (options.final_check != FineTuneOptions::FinalCheck::kOff) {
     ctx.CheckStop();
-    std::vector<int> ids(ns);
-    for (int g = 0; g < ns; ++g) ids[g] = g;
     const SphereTree full(all.centers, all.radii, ids);
     const bool repair = options.final_check == FineTuneOptions::FinalCheck::kRepair;
     std::vector<int> infeasible(ns, 0), repaired(ns, 0);
