@@ -4,6 +4,7 @@
 #include "framework/reconstruct/poisson.h"
 
 #include "framework/error.h"
+#include "framework/reconstruct/poisson_open3d.h"
 #include "framework/reconstruct/poisson_pcl.h"
 #include "framework/spatial/knn.h"
 
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 namespace arcs {
@@ -39,6 +41,7 @@ void PoissonOptions::Check() const {
 }
 
 bool PoissonAvailable() { return poisson_detail::PclAvailable(); }
+bool PoissonOpen3dAvailable() { return poisson_detail::Open3dPoissonAvailable(); }
 
 namespace {
 
@@ -294,13 +297,56 @@ int AutoPoissonDepth(const PointCloud& oriented, const PoissonOptions& options) 
   return AutoDepthFromBox(oriented, options, box);
 }
 
+namespace {
+// (occupied cells of side h) x h^2 / 1.5, points in cube units from `lo`.
+double CellArea(const PointCloud& pc, const Vec3& lo, double cube, double h) {
+  std::unordered_set<std::uint64_t> cells;
+  cells.reserve(static_cast<std::size_t>(pc.P.rows()));
+  for (Eigen::Index i = 0; i < pc.P.rows(); ++i) {
+    const Vec3 q = (pc.P.row(i).transpose() - lo) / cube;
+    std::uint64_t key = 0;
+    for (int k = 0; k < 3; ++k) {
+      const auto c = static_cast<std::uint64_t>(std::max(0.0, std::floor(q[k] / h)));
+      key = key * 2097152u + std::min<std::uint64_t>(c, 2097151u);
+    }
+    cells.insert(key);
+  }
+  return static_cast<double>(cells.size()) * h * h;
+}
+}  // namespace
+
+double EstimatePoissonSampleArea(const PointCloud& oriented, double scale, int depth) {
+  const Box box = ValidateInput(oriented);
+  if (!(scale > 0.0) || depth < 2) throw Error("EstimatePoissonSampleArea: needs scale > 0 and depth >= 2");
+  const double cube = scale * box.Extent();
+  // Cells too small leave gaps between the points (the count undershoots);
+  // growing h, the estimate rises until the cells cover the surface, then
+  // stays (until h nears the features). Start at PoissonRecon's kernel
+  // depth (depth - 2) and double h until the estimate grows by < 10 %.
+  double h = 1.0 / static_cast<double>(1 << std::max(0, depth - 2));
+  double a = CellArea(oriented, box.lo, cube, h);
+  for (int k = 0; k < 8 && 2.0 * h <= 0.25; ++k) {
+    const double a2 = CellArea(oriented, box.lo, cube, 2.0 * h);
+    h *= 2.0;
+    if (a2 < 1.1 * a) {
+      a = std::max(a, a2);
+      break;
+    }
+    a = a2;
+  }
+  return a;
+}
+
 Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& options,
                         const Context& ctx, double* used_weight) {
   options.Check();
   const Box box = ValidateInput(oriented);
   ctx.CheckStop();
   const int depth = options.depth > 0 ? options.depth : AutoDepthFromBox(oriented, options, box);
-  if (!PoissonAvailable()) throw Error("screened Poisson needs PCL: install libpcl-dev");
+  const bool open3d = options.backend == PoissonOptions::Backend::kOpen3d;
+  if (!open3d && !PoissonAvailable()) throw Error("screened Poisson needs PCL: install libpcl-dev");
+  if (open3d && !PoissonOpen3dAvailable())
+    throw Error("screened Poisson (backend open3d): arcs was built without Open3D: install libopen3d-dev");
 
   // PCL works in single precision: hand it the points centred and scaled to
   // a unit box (in double), so far-from-origin or tiny clouds lose nothing;
@@ -321,14 +367,29 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
     }
   }
   double weight = options.point_weight;
+  // PCL's screening weight w acts per point as w * 2^d / N; PoissonRecon's
+  // alpha as alpha * (estimated area / N) * 2^d, both in unit-cube units.
+  const double pcl_per_unit = options.area_normalized && !open3d
+                                  ? EstimatePoissonSampleArea(oriented, options.scale, depth)
+                                  : 1.0;
+  if (open3d && options.point_weight != 2.0) {
+    ctx.Warn("screened Poisson (backend open3d): Open3D 0.16 fixes PoissonRecon's point weight at 2; point_weight " +
+             std::to_string(options.point_weight) + " is ignored");
+    weight = 2.0;
+  }
   Mesh mesh;
   for (int attempt = 0;; ++attempt) {
     ctx.Info("screened Poisson: " + std::to_string(n) + " points, depth " + std::to_string(depth) +
              (options.depth == 0 ? " (automatic)" : "") + ", point weight " + std::to_string(weight));
     ctx.Progress(0.0, "screened Poisson");
     PoissonOptions o = options;
-    o.point_weight = weight;
-    mesh = poisson_detail::RunPclPoisson(xyz, nrm, o, depth);
+    o.point_weight = weight * pcl_per_unit;
+    if (open3d) {
+      std::vector<double> dx(xyz.begin(), xyz.end()), dn(nrm.begin(), nrm.end());
+      mesh = poisson_detail::RunOpen3dPoisson(dx, dn, depth, options.scale, options.threads, false).mesh;
+    } else {
+      mesh = poisson_detail::RunPclPoisson(xyz, nrm, o, depth);
+    }
     ctx.CheckStop();
     if (mesh.F.rows() == 0) {
       throw Error("screened Poisson: PCL produced no surface (depth " + std::to_string(depth) +
@@ -344,7 +405,7 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
                std::to_string(removed) + " collapsed faces, closed " + std::to_string(filled) +
                " crack(s)");
     }
-    if (open > 0 && attempt < options.open_retries && weight > 0.0) {
+    if (open > 0 && attempt < options.open_retries && weight > 0.0 && !open3d) {
       // A strongly screened solve can leave sheets reaching the reconstruction
       // cube where the points are noisy (measured: fandisk n = 40 RFTA points,
       // open at weight 400, closed at 10); a weaker screening smooths them.

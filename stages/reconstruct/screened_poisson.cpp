@@ -28,7 +28,13 @@ void RegisterScreenedPoisson(Registry& r) {
       .Int("threads", def.threads,
            "OpenMP threads inside PCL; only 1 is deterministic (set OMP_WAIT_POLICY=PASSIVE for more)", 1, 256)
       .Int("open_retries", def.open_retries,
-           "an open output is solved again with a 4x weaker point weight, up to this many times (0 = never)", 0, 10);
+           "an open output is solved again with a 4x weaker point weight, up to this many times (0 = never)", 0, 10)
+      .Choice("backend", "pcl", {"pcl", "open3d"},
+              "pcl: pcl::Poisson (PoissonRecon ~v5 port, FEM degree 2); open3d: Open3D 0.16's PoissonRecon 12 "
+              "(FEM degree 1, Neumann, 1.5 samples/node, area-normalised weight fixed at 2; depth, scale, threads only)")
+      .Bool("area_normalized", false,
+            "point_weight in PoissonRecon's units (the official RFTA: 10), i.e. scaled by the estimated sample "
+            "area in the reconstruction cube; false: PCL's own units (divided by the point count)");
   s.outputs = {"poisson_depth", "poisson_point_weight"};
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
     if (!d.points || !d.points->HasNormals()) {
@@ -44,6 +50,8 @@ void RegisterScreenedPoisson(Registry& r) {
     o.manifold = p.GetBool("manifold");
     o.threads = static_cast<int>(p.GetInt("threads"));
     o.open_retries = static_cast<int>(p.GetInt("open_retries"));
+    o.backend = p.GetString("backend") == "open3d" ? PoissonOptions::Backend::kOpen3d : PoissonOptions::Backend::kPcl;
+    o.area_normalized = p.GetBool("area_normalized");
     o.Check();
     // Resolve the automatic depth here so the row records the depth used.
     if (o.depth == 0) o.depth = AutoPoissonDepth(*d.points, o);
