@@ -9,6 +9,7 @@
 #include "framework/planar/curves.h"
 #include "framework/spatial/topology.h"
 #include "framework/util/parallel.h"
+#include "framework/util/rng.h"
 
 #include <algorithm>
 #include <cctype>
@@ -73,7 +74,19 @@ std::string OutputStem(const Case& c) {
   // The case's label ("bunny n=20 | grid | MC") with " | " as "__", made file-safe.
   std::string s = c.Label();
   for (size_t pos; (pos = s.find(" | ")) != std::string::npos;) s.replace(pos, 3, "__");
-  return FileSafe(s) + "__" + c.id;
+  s = FileSafe(s);
+  // File names are limited to 255 bytes (NAME_MAX) and several varying
+  // nested parameters make labels longer ("File name too long"): a long label
+  // keeps its first kMaxLabel characters and a hash of the whole label; the
+  // case id that follows keeps the name unique.
+  constexpr std::size_t kMaxLabel = 120;
+  if (s.size() > kMaxLabel) {
+    char hash[20];
+    std::snprintf(hash, sizeof hash, "%08llx",
+                  static_cast<unsigned long long>(Fnv1a64(s) & 0xffffffffull));
+    s = s.substr(0, kMaxLabel) + "~" + hash;
+  }
+  return s + "__" + c.id;
 }
 
 Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Context::LogFn& log,

@@ -8,6 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+#include <string>
+
 namespace arcs {
 namespace {
 
@@ -52,6 +55,44 @@ TEST(SaveOutputsTest, MeshesAndTangencyPointsAreWrittenPerCase) {
   // Nothing half-written is left behind.
   for (const auto& e : fs::directory_iterator(dir / "out" / "outputs"))
     EXPECT_EQ(e.path().string().find(".part"), std::string::npos) << e.path();
+}
+
+// Several varying nested stage parameters make the case label longer than a
+// file name may be (255 bytes): it was "File name too long"; the stem is now
+// capped (first 120 label characters, a hash, the case id).
+TEST(SaveOutputsTest, LongLabelsGiveCappedUniqueFileNames) {
+  const auto dir = testing::TempDir("save_outputs_long");
+  std::string recs;
+  for (const char* w : {"1", "4"}) {
+    recs += std::string("            - {stage: screened_poisson, params: {depth: 6, min_depth: 4, point_weight: ") + w +
+            ", samples_per_node: 1.5, scale: 1.25, open_retries: 0, manifold: true, threads: 1}}\n";
+  }
+  testing::WriteFile(dir / "e.yaml",
+                     "name: savelong\nsave_outputs: true\n"
+                     "datasets: [{shapes: [sphere]}]\n"
+                     "inputs:\n  - name: grid\n    pipeline:\n      - stage: sdf_grid\n        params: {n: 8}\n"
+                     "methods:\n  - name: RFTA\n    pipeline:\n      - stage: rfta\n        params:\n"
+                     "          iterations: 1\n          reconstructor:\n" + recs +
+                     "          tuning_reconstructor:\n" + recs + "metrics: [mesh_size]\n");
+  const auto r = RunCmd(Arcs() + " run " + (dir / "e.yaml").string() + " --out " + (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const CsvTable t = ReadCsv((dir / "out" / "results.csv").string());
+  ASSERT_EQ(t.rows.size(), 4u);
+  std::set<std::string> names;
+  for (size_t i = 0; i < t.rows.size(); ++i) {
+    ASSERT_EQ(t.Cell(i, "status"), "ok") << t.Cell(i, "error");
+    for (const char* col : {"output_file", "output_points_file"}) {
+      const std::string file = t.Cell(i, col);
+      ASSERT_FALSE(file.empty()) << col;
+      EXPECT_LE(file.size(), 200u) << file;
+      EXPECT_TRUE(fs::exists(dir / "out" / "outputs" / file)) << file;
+      EXPECT_NE(file.find("__" + t.Cell(i, "case_id")), std::string::npos) << file;
+      EXPECT_EQ(file.rfind("sphere_reconstructor=", 0), 0u) << file;  // still starts with the label
+      EXPECT_NE(file.find('~'), std::string::npos) << file;  // capped, with the hash
+      names.insert(file);
+    }
+  }
+  EXPECT_EQ(names.size(), 8u);  // unique per case and kind
 }
 
 TEST(SaveOutputsTest, CommandLineFlagAndCurvesAndOffByDefault) {
