@@ -19,9 +19,11 @@
 #include "registry/plugin_api.h"
 #include "stages/builtin.h"
 #include "app/cli.h"
+#include "app/mesh_input.h"
 #include "app/commands.h"
 
 #include <chrono>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -50,7 +52,7 @@ commands:
                              rebuild the tables from RESULTS_DIR/results.csv
   list                       every registered stage, by role
   describe STAGE             a stage's parameters with defaults, ranges and docs
-  sdf MESH OUT [--n N] [--random COUNT] [--no-normalize] [--rotate SEED] [--curve]
+  sdf MESH OUT [--n N] [--random COUNT] [--no-normalize] [--rotate SEED] [--curve] [--threads T]
                              sample a mesh's SDF (paper protocol) to OUT (.npy grid or .txt);
                              --curve: MESH is a 2D polyline file or built-in curve name
   eval MESH REFERENCE [--samples N] [--sdf FILE] [--no-normalize]
@@ -130,8 +132,8 @@ int CmdRun(Registry& registry, const Args& args, int argc, char** argv) {
   const Experiment exp = LoadExperiment(args.positional[0], args.All("--set"), registry);
   RunOptions o;
   o.out_dir = args.Get("--out", DefaultOutDir(exp));
-  o.jobs = args.Has("--jobs") ? ParseInt(args.Get("--jobs"), "--jobs") : 1;
-  o.threads = args.Has("--threads") ? ParseInt(args.Get("--threads"), "--threads") : 0;
+  o.jobs = args.Has("--jobs") ? ParseInt(args.Get("--jobs"), "--jobs", 1, 4096) : 1;
+  o.threads = args.Has("--threads") ? ParseInt(args.Get("--threads"), "--threads", 0, 4096) : 0;
   if (o.jobs < 1) Usage("--jobs must be >= 1");
   if (o.threads < 0) Usage("--threads must be >= 0");
   o.isolate = !args.Has("--no-isolate");
@@ -156,20 +158,23 @@ int CmdTable(const Args& args) {
 }
 
 Mesh LoadMeshNormalized(const std::string& path, bool normalize, int rotate_seed) {
-  Mesh m = path.rfind("shape:", 0) == 0 ? MakeBuiltinShape(path.substr(6)) : ReadMesh(path);
+  Mesh m = path.rfind("shape:", 0) == 0 ? MakeBuiltinShape(path.substr(6)) : ReadMeshForCommand(path);
   if (normalize) {
     NormalizeOptions no;
     if (rotate_seed >= 0) {
       no.random_rotation = true;
       no.rotation_seed = static_cast<std::uint64_t>(rotate_seed);
     }
-    Normalize(&m, no);
+    NormalizeForCommand(&m, no, path);
+  } else {
+    CheckCoordinateRange(m, path);
   }
   return m;
 }
 
 int CmdSdf(const Args& args) {
   if (args.positional.size() != 2) Usage("sdf needs MESH and OUT");
+  ThreadLimit limit(args.Has("--threads") ? ParseInt(args.Get("--threads"), "--threads", 0, 4096) : 0);
   if (args.Has("--curve")) {
     // 2D: a polyline file (.obj with 'l' lines, .txt, .poly) or a built-in curve name.
     const std::string& in = args.positional[0];
@@ -179,10 +184,10 @@ int CmdSdf(const Args& args) {
     Context ctx(1);
     SdfSamples s2;
     if (args.Has("--random")) {
-      s2 = SampleSdfRandom2D(curve, ParseInt(args.Get("--random"), "--random"), -1.0, 1.0, ctx);
+      s2 = SampleSdfRandom2D(curve, ParseInt64(args.Get("--random"), "--random", 1, 1000000000), -1.0, 1.0, ctx);
     } else {
       SdfGrid2DOptions o;
-      o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n") : 20;
+      o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n", 1, 2000) : 20;
       s2 = SampleSdfGrid2D(curve, o, ctx);
     }
     const std::string out = args.positional[1];
@@ -196,16 +201,24 @@ int CmdSdf(const Args& args) {
     return 0;
   }
   const Mesh m = LoadMeshNormalized(args.positional[0], !args.Has("--no-normalize"),
-                                    args.Has("--rotate") ? ParseInt(args.Get("--rotate"), "--rotate") : -1);
+                                    args.Has("--rotate") ? ParseInt(args.Get("--rotate"), "--rotate", 0, INT_MAX) : -1);
   Context ctx(1);
+  ctx.set_log([](LogLevel l, const std::string& msg) {
+    if (l >= LogLevel::kWarning) std::fprintf(stderr, "arcs: warning: %s\n", msg.c_str());
+  });
   SdfSamples s;
+  SdfSignReport sign;
   if (args.Has("--random")) {
-    s = SampleSdfRandom(m, ParseInt(args.Get("--random"), "--random"), -1.0, 1.0, ctx);
+    s = SampleSdfRandom(m, ParseInt64(args.Get("--random"), "--random", 1, 1000000000), -1.0, 1.0, ctx,
+                        SdfSign::kFastWindingNumber, SdfInside::kVoxelizer, &sign);
   } else {
     SdfGridOptions o;
-    o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n") : 20;
-    s = SampleSdfGrid(m, o, ctx);
+    o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n", 1, 2000) : 20;
+    s = SampleSdfGrid(m, o, ctx, &sign);
   }
+  std::fprintf(stderr, "sign: %s rule, %lld unbalanced edges, %lld of %lld samples inside (%lld by the open-mesh shell)\n",
+               sign.rule.c_str(), static_cast<long long>(sign.unbalanced_edges), static_cast<long long>(sign.inside),
+               static_cast<long long>(s.Size()), static_cast<long long>(sign.shell_samples));
   const std::string out = args.positional[1];
   if (fs::path(out).extension() == ".npy") {
     if (!s.grid) throw Error("a .npy output holds a grid; use a .txt output for --random samples");
@@ -221,8 +234,9 @@ int CmdEval(const Args& args) {
   if (args.positional.size() != 2) Usage("eval needs MESH and REFERENCE");
   const bool norm = !args.Has("--no-normalize");
   const Mesh ref = LoadMeshNormalized(args.positional[1], norm, -1);
-  const Mesh m = ReadMesh(args.positional[0]);
-  const std::int64_t n = args.Has("--samples") ? ParseInt(args.Get("--samples"), "--samples") : 1000000;
+  const Mesh m = ReadMeshForCommand(args.positional[0]);
+  CheckCoordinateRange(m, args.positional[0]);  // used in its own frame
+  const std::int64_t n = args.Has("--samples") ? ParseInt64(args.Get("--samples"), "--samples", 1, 1000000000) : 1000000;
   std::printf("chamfer            %.6g\n", ChamferPaper(m, ref, n, 1));
   std::printf("hausdorff          %.6g\n", HausdorffPaper(m, ref));
   std::printf("chamfer_p2s        %.6g\n", ChamferPointToSurface(m, ref, n, 1));
@@ -242,7 +256,7 @@ ParamValue DecodeParam(const ParamSpec& spec, const std::string& text) {
       if (text != "true" && text != "false") Usage(spec.name + " must be true or false");
       v = text == "true";
       break;
-    case ParamType::kInt: v = static_cast<std::int64_t>(ParseInt(text, spec.name)); break;
+    case ParamType::kInt: v = static_cast<std::int64_t>(ParseInt64(text, spec.name)); break;
     case ParamType::kDouble: {
       char* end = nullptr;
       const double d = std::strtod(text.c_str(), &end);
@@ -285,11 +299,11 @@ int CmdReconstruct(Registry& registry, const Args& args) {
   CaseData data;
   data.registry = &registry;
   data.samples = ReadSdf(args.positional[0]);
-  Context ctx(args.Has("--seed") ? static_cast<std::uint64_t>(ParseInt(args.Get("--seed"), "--seed")) : 1);
+  Context ctx(args.Has("--seed") ? static_cast<std::uint64_t>(ParseInt64(args.Get("--seed"), "--seed", 0)) : 1);
   ctx.set_log([](LogLevel l, const std::string& m) {
     if (l >= LogLevel::kWarning) std::fprintf(stderr, "%s\n", m.c_str());
   });
-  ThreadLimit limit(args.Has("--threads") ? ParseInt(args.Get("--threads"), "--threads") : 0);
+  ThreadLimit limit(args.Has("--threads") ? ParseInt(args.Get("--threads"), "--threads", 0, 4096) : 0);
   const auto t0 = std::chrono::steady_clock::now();
   registry.Get(method).factory(params)->Run(ctx, data);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -369,7 +383,8 @@ int main(int argc, char** argv) {
       return CmdRun(registry, a, argc, argv);
     }
     if (cmd == "table") return CmdTable(Parse(argc, argv, 2, {"--tables"}, {}));
-    if (cmd == "sdf") return CmdSdf(Parse(argc, argv, 2, {"--n", "--random", "--rotate"}, {"--no-normalize", "--curve"}));
+    if (cmd == "sdf")
+      return CmdSdf(Parse(argc, argv, 2, {"--n", "--random", "--rotate", "--threads"}, {"--no-normalize", "--curve"}));
     if (cmd == "eval") return CmdEval(Parse(argc, argv, 2, {"--samples", "--sdf"}, {"--no-normalize"}));
     if (cmd == "reconstruct") {
       const Args a = Parse(argc, argv, 2, {"--plugin", "--method", "--param", "--seed", "--threads", "--points"}, {});

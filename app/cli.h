@@ -2,6 +2,10 @@
 #pragma once
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <climits>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -62,17 +66,29 @@ inline Args Parse(int argc, char** argv, int start, const std::vector<std::strin
   return a;
 }
 
-inline int ParseInt(const std::string& s, const std::string& what) {
+// An integer option in [lo, hi]: no wrap-around (4294967302 is out of the
+// int range, not 6), no trailing junk, no empty value.
+inline long long ParseInt64(const std::string& s, const std::string& what, long long lo = LLONG_MIN,
+                            long long hi = LLONG_MAX) {
   char* end = nullptr;
-  const long v = std::strtol(s.c_str(), &end, 10);
-  if (s.empty() || *end) Usage(what + " must be an integer, got '" + s + "'");
-  return static_cast<int>(v);
+  errno = 0;
+  const long long v = std::strtoll(s.c_str(), &end, 10);
+  if (s.empty() || *end || std::isspace(static_cast<unsigned char>(s[0])))
+    Usage(what + " must be an integer, got '" + s + "'");
+  if (errno == ERANGE || v < lo || v > hi)
+    Usage(what + " = " + s + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  return v;
+}
+
+inline int ParseInt(const std::string& s, const std::string& what, int lo = INT_MIN, int hi = INT_MAX) {
+  return static_cast<int>(ParseInt64(s, what, lo, hi));
 }
 
 inline double ParseDouble(const std::string& s, const std::string& what) {
   char* end = nullptr;
   const double v = std::strtod(s.c_str(), &end);
   if (s.empty() || *end) Usage(what + " must be a number, got '" + s + "'");
+  if (!std::isfinite(v)) Usage(what + " must be a finite number, got '" + s + "'");
   return v;
 }
 

@@ -2,6 +2,7 @@
 // so that its soft occupancy matches a target's (Luo et al. §2.4; see
 // framework/voxel/morph.h and docs/morphing.md).
 #include "app/cli.h"
+#include "app/mesh_input.h"
 #include "app/commands.h"
 #include "framework/context.h"
 #include "framework/geometry/builtin_shapes.h"
@@ -42,7 +43,7 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 
 Mesh LoadMeshOrShape(const std::string& spec) {
   if (spec.rfind("shape:", 0) == 0) return MakeBuiltinShape(spec.substr(6));
-  return ReadMesh(spec);
+  return cli::ReadMeshForCommand(spec);
 }
 
 }  // namespace
@@ -56,21 +57,21 @@ int CmdMorph(Registry& registry, int argc, char** argv) {
   if (a.positional.size() != 3) MorphUsage("morph needs SOURCE, TARGET and OUT");
   const std::string source_spec = a.positional[0], target_spec = a.positional[1], out = a.positional[2];
 
-  const int res = a.Has("--res") ? cli::ParseInt(a.Get("--res"), "--res") : 64;
+  const int res = a.Has("--res") ? cli::ParseInt(a.Get("--res"), "--res", 4, 512) : 64;
   if (res < 4 || res > 512) MorphUsage("--res must be in [4, 512], got " + std::to_string(res));
-  const int subdiv = a.Has("--subdivisions") ? cli::ParseInt(a.Get("--subdivisions"), "--subdivisions") : 3;
+  const int subdiv = a.Has("--subdivisions") ? cli::ParseInt(a.Get("--subdivisions"), "--subdivisions", 0, 8) : 3;
   if (subdiv < 0 || subdiv > 7) MorphUsage("--subdivisions must be in [0, 7]");
-  const int threads = a.Has("--threads") ? cli::ParseInt(a.Get("--threads"), "--threads") : 0;
+  const int threads = a.Has("--threads") ? cli::ParseInt(a.Get("--threads"), "--threads", 0, 4096) : 0;
   if (threads < 0) MorphUsage("--threads must be >= 0");
-  const int every = a.Has("--every") ? cli::ParseInt(a.Get("--every"), "--every") : 10;
+  const int every = a.Has("--every") ? cli::ParseInt(a.Get("--every"), "--every", 1, INT_MAX) : 10;
   if (every < 1) MorphUsage("--every must be >= 1");
   MorphOptions o;
   o.refresh_every = every;
-  if (a.Has("--iterations")) o.iterations = cli::ParseInt(a.Get("--iterations"), "--iterations");
+  if (a.Has("--iterations")) o.iterations = cli::ParseInt(a.Get("--iterations"), "--iterations", 0, 1000000000);
   if (a.Has("--lr")) o.lr = cli::ParseDouble(a.Get("--lr"), "--lr");
   if (a.Has("--smooth")) o.smooth = cli::ParseDouble(a.Get("--smooth"), "--smooth");
   if (a.Has("--softening")) o.softening_voxels = cli::ParseDouble(a.Get("--softening"), "--softening");
-  if (a.Has("--batch")) o.batch = cli::ParseInt(a.Get("--batch"), "--batch");
+  if (a.Has("--batch")) o.batch = cli::ParseInt(a.Get("--batch"), "--batch", 1, 1000000000);
   try {
     if (a.Has("--residual")) o.residual = ParseMorphResidual(a.Get("--residual"));
     if (a.Has("--form")) o.loss.occupancy.form = ParseWindingForm(a.Get("--form"));
@@ -78,7 +79,7 @@ int CmdMorph(Registry& registry, int argc, char** argv) {
   } catch (const OptionError& e) {
     MorphUsage(std::string("--") + e.what());
   }
-  const std::uint64_t seed = a.Has("--seed") ? static_cast<std::uint64_t>(cli::ParseInt(a.Get("--seed"), "--seed")) : 1;
+  const std::uint64_t seed = a.Has("--seed") ? static_cast<std::uint64_t>(cli::ParseInt64(a.Get("--seed"), "--seed", 0)) : 1;
 
   // A source file is read first: a bad file fails before the target is voxelised.
   Mesh source_file;
@@ -104,7 +105,7 @@ int CmdMorph(Registry& registry, int argc, char** argv) {
   } else {
     Mesh t = LoadMeshOrShape(target_spec);
     if (t.Empty()) throw Error(target_spec + ": the target mesh has no faces");
-    const Similarity sim = Normalize(&t, NormalizeOptions{});
+    const Similarity sim = cli::NormalizeForCommand(&t, NormalizeOptions{}, target_spec);
     to_out = sim.Inverse();
     target.info = CubeGrid(res, Vec3::Constant(-0.55), Vec3::Constant(0.55));
     target.values = HardOccupancy(t, target.info);

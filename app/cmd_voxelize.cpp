@@ -1,5 +1,6 @@
 // arcs voxelize MESH OUT.npy: winding-number occupancy grid of a mesh.
 #include "app/cli.h"
+#include "app/mesh_input.h"
 #include "app/commands.h"
 #include "framework/error.h"
 #include "framework/geometry/normalize.h"
@@ -107,7 +108,7 @@ int CmdVoxelize(Registry& registry, int argc, char** argv) {
   } catch (const OptionError& e) {
     cli::Usage(std::string("voxelize: ") + e.what());
   }
-  const int res = a.Has("--resolution") ? cli::ParseInt(a.Get("--resolution"), "--resolution") : 128;
+  const int res = a.Has("--resolution") ? cli::ParseInt(a.Get("--resolution"), "--resolution", 2, 2048) : 128;
   if (res < 2 || res > 2048) cli::Usage("--resolution must be in [2, 2048], got " + std::to_string(res));
   const std::string dtype = a.Get("--dtype", "float32");
   if (dtype != "float32" && dtype != "float64") cli::Usage("--dtype must be float32 or float64, got '" + dtype + "'");
@@ -115,21 +116,21 @@ int CmdVoxelize(Registry& registry, int argc, char** argv) {
   const bool normalize = !a.Has("--no-normalize");
   std::unique_ptr<ThreadLimit> limit;
   if (a.Has("--threads")) {
-    const int t = cli::ParseInt(a.Get("--threads"), "--threads");
+    const int t = cli::ParseInt(a.Get("--threads"), "--threads", 1, 4096);
     if (t < 1) cli::Usage("--threads must be >= 1");
     limit = std::make_unique<ThreadLimit>(t);
   }
 
-  Mesh mesh = ReadMesh(in);
-  if (mesh.NumVertices() == 0) throw InputError(in, 0, "the mesh has no vertices");
+  Mesh mesh = cli::ReadMeshForCommand(in);
   Vec3 lo, hi;
   if (normalize) {
     NormalizeOptions no;
     no.center = true;
     no.longest_side = 2.0;
-    Normalize(&mesh, no);
+    cli::NormalizeForCommand(&mesh, no, in);
     lo = Vec3::Constant(-1.0), hi = Vec3::Constant(1.0);
   } else {
+    cli::CheckCoordinateRange(mesh, in);
     const Vec3 mn = mesh.V.colwise().minCoeff().transpose(), mx = mesh.V.colwise().maxCoeff().transpose();
     const double pad = std::max(0.05 * (mx - mn).maxCoeff(), 1e-9);
     lo = mn - Vec3::Constant(pad), hi = mx + Vec3::Constant(pad);
@@ -159,7 +160,7 @@ int CmdVoxelize(Registry& registry, int argc, char** argv) {
       for (std::int64_t p = 0; p < occ.values.size(); ++p) occ.values[p] = occ.values[p] > 0.5 ? 1.0 : 0.0;
     if (rep.sheet_faces > 0 || o.open_mesh == "flip_dup")
       std::printf("verify: note: the open-mesh rule changed the occupancy (shell / Alg. 2); differences are expected\n");
-    const int nr = a.Has("--verify-random") ? cli::ParseInt(a.Get("--verify-random"), "--verify-random") : 10000;
+    const int nr = a.Has("--verify-random") ? cli::ParseInt(a.Get("--verify-random"), "--verify-random", 0, 1000000000) : 10000;
     if (nr < 0) cli::Usage("--verify-random must be >= 0");
     const SignCheck sc = VerifyOccupancy(mesh, occ, o.orientation, 0.1, nr, 1);
     std::printf("verify: %lld nodes, %lld disagree with the hierarchy, %lld checked with the exact sum, "

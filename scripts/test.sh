@@ -7,3 +7,7 @@ cd "$(dirname "$0")/.."
 ./scripts/build.sh
 cd build
 ctest --output-on-failure -j "${ARCS_TEST_JOBS:-$(nproc)}" "$@"
+# The ASan + UBSan subset (readers + fuzzer, spatial/geometry/SDF/voxel
+# kernels) in build-asan/; ARCS_SKIP_SANITIZE=1 skips it.
+cd ..
+./scripts/sanitize.sh

@@ -159,9 +159,22 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
       if (c.item_path.rfind("shape:", 0) == 0) {
         data.reference = MakeBuiltinShape(c.item_path.substr(6));
       } else {
-        data.reference = ReadMesh(c.item_path);
+        MeshReadReport mrep;
+        data.reference = ReadMesh(c.item_path, &mrep);
+        for (const auto& w : mrep.warnings) ctx.Warn(c.item_path + ": " + w);
+        if (data.reference->NumFaces() == 0)
+          throw InputError(c.item_path, 0, "the mesh has no triangle faces (" +
+                                               std::to_string(data.reference->NumVertices()) + " vertices)");
       }
-      if (c.normalize.enabled) Normalize(&*data.reference, no);
+      if (c.normalize.enabled) {
+        try {
+          Normalize(&*data.reference, no);
+        } catch (const InputError&) {
+          throw;
+        } catch (const Error& e) {
+          throw InputError(c.item_path, 0, e.what());
+        }
+      }
     }
     if (data.reference) {
       const Topology rt = ComputeTopology(*data.reference);

@@ -1,4 +1,5 @@
 #include "framework/experiment/experiment.h"
+#include "framework/experiment/yaml_check.h"
 
 #include "framework/experiment/version.h"
 #include "framework/util/rng.h"
@@ -374,7 +375,9 @@ void ApplyOverride(YAML::Node& doc, const std::string& assignment) {
   const std::string path = assignment.substr(0, eq);
   YAML::Node value;
   try {
-    value = Unmarked(YAML::Load(assignment.substr(eq + 1)));
+    const YAML::Node parsed = YAML::Load(assignment.substr(eq + 1));
+    CheckYamlStructure("--set " + assignment.substr(0, eq), parsed);  // no cycle before Unmarked recurses
+    value = Unmarked(parsed);
   } catch (const YAML::Exception& e) {
     throw ExperimentError("--set " + assignment + ": value is not valid YAML: " + e.msg);
   }
@@ -553,6 +556,7 @@ std::vector<TableSpec> LoadTableSpecs(const std::string& path) {
   } catch (const YAML::Exception& e) {
     throw ExperimentError(path + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
+  CheckYamlStructure(path, doc);
   if (!doc.IsMap() || !doc["tables"]) return {};
   std::vector<TableSpec> specs = ParseTables(path, doc["tables"], fs::path(path).parent_path().string());
   OrderColumnsByMethods(doc, &specs);
@@ -574,6 +578,7 @@ Experiment LoadExperiment(const std::string& path, const std::vector<std::string
     throw ExperimentError(path + ": cannot read YAML: " + e.msg);
   }
   if (!doc.IsMap()) throw ExperimentError(path + ":1: an experiment must be a YAML mapping");
+  CheckYamlStructure(path, doc);
   for (const auto& o : overrides) ApplyOverride(doc, o);
   const std::string& f = path;
   const std::string base = fs::path(path).parent_path().string();

@@ -338,12 +338,22 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
           continue;
         }
         if (pid == 0) {
-          signal(SIGINT, SIG_DFL);
-          signal(SIGTERM, SIG_DFL);
-          Row row = ExecuteCase(*c, registry, threads, log_for(*c), outputs_dir);
-          WriteRowFile((fs::path(out) / "tmp" / (c->id + ".row")).string(), row);
+          // The worker ends here whatever happens: an exception must not
+          // unwind into the parent's code path (it would run the loop on).
+          int rc = 0;
+          try {
+            signal(SIGINT, SIG_DFL);
+            signal(SIGTERM, SIG_DFL);
+            Row row = ExecuteCase(*c, registry, threads, log_for(*c), outputs_dir);
+            WriteRowFile((fs::path(out) / "tmp" / (c->id + ".row")).string(), row);
+          } catch (const std::exception& e) {
+            std::fprintf(stderr, "arcs: worker of case %s: %s\n", c->id.c_str(), e.what());
+            rc = 3;
+          } catch (...) {
+            rc = 3;
+          }
           std::fflush(nullptr);
-          _exit(0);
+          _exit(rc);
         }
         running[pid] = {c, std::chrono::steady_clock::now()};
         progress("running: " + c->Label());

@@ -6,9 +6,20 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdio>
+#include <limits>
 #include <numbers>
+#include <string>
 
 namespace arcs {
+
+namespace {
+std::string FormatNumber(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%.17g", v);
+  return buf;
+}
+}  // namespace
 
 void NormalizeOptions::Check() const {
   ARCS_CHECK_OPTION(std::isfinite(longest_side) && longest_side >= 0.0, "longest_side",
@@ -29,14 +40,31 @@ Similarity NormalizeTransform(const MatrixX3d& V, const NormalizeOptions& option
   if (!V.allFinite()) throw Error("normalize: the mesh has non-finite vertex coordinates");
   const Vec3 lo = V.colwise().minCoeff().transpose();
   const Vec3 hi = V.colwise().maxCoeff().transpose();
+  auto range = [&] {
+    return "coordinates from (" + FormatNumber(lo[0]) + ", " + FormatNumber(lo[1]) + ", " + FormatNumber(lo[2]) +
+           ") to (" + FormatNumber(hi[0]) + ", " + FormatNumber(hi[1]) + ", " + FormatNumber(hi[2]) + ")";
+  };
 
   Similarity t;
-  if (options.center) t.translation = -0.5 * (lo + hi);
+  // The centre without overflow (lo + hi overflows near +-DBL_MAX).
+  if (options.center) t.translation = -(0.5 * lo + 0.5 * hi);
   if (options.longest_side > 0.0) {
     const double side = (hi - lo).maxCoeff();
+    if (side == INFINITY)
+      throw Error("normalize: the bounding box's extent overflows the double range (" + range() +
+                  "): the mesh cannot be scaled; rescale the file");
     if (!(side > 0.0)) throw Error("normalize: the bounding box is a single point; cannot scale");
     t.scale = options.longest_side / side;
+    // A subnormal extent (all coordinates within ~1e-308) scales by more
+    // than the double range, or loses every significant digit.
+    if (!std::isfinite(t.scale) || side < std::numeric_limits<double>::min())
+      throw Error("normalize: the bounding box's extent " + FormatNumber(side) +
+                  " underflows the double range (" + range() + "): the mesh cannot be scaled; rescale the file");
   }
+  // Every normalised coordinate must stay finite (a huge centre offset).
+  const double reach = std::max((hi - lo).maxCoeff(), 0.0);
+  if (!std::isfinite(reach * t.scale))
+    throw Error("normalize: the normalised coordinates overflow (" + range() + "); rescale the file");
   if (options.random_rotation) {
     Rng rng(options.rotation_seed);
     Vec3 axis;

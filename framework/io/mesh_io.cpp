@@ -71,7 +71,9 @@ bool IsIgnoredObjKeyword(std::string_view kw) {
 // appear (positive indices may legally refer to vertices defined later).
 std::int64_t CountObjVertices(std::string_view text) {
   std::int64_t n = 0;
-  std::size_t i = 0;
+  // A UTF-8 byte-order mark is skipped, as LineReader does (else the first
+  // line's vertex goes uncounted and the last face index is "out of range").
+  std::size_t i = text.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;
   const std::size_t size = text.size();
   while (i < size) {
     while (i < size && IsSpace(text[i])) ++i;
@@ -392,7 +394,7 @@ void ReadStlAscii(const std::string& path, std::string_view text, RawMesh* m,
 }
 
 void ReadStl(const std::string& path, std::string_view bytes, RawMesh* m, MeshReadReport* rep) {
-  std::size_t i = 0;
+  std::size_t i = bytes.substr(0, 3) == "\xEF\xBB\xBF" ? 3 : 0;  // a UTF-8 byte-order mark
   while (i < bytes.size() && (IsSpace(bytes[i]) || bytes[i] == '\n')) ++i;
   const bool solid = bytes.size() - i >= 5 && EqualsIgnoreCase(bytes.substr(i, 5), "solid");
   if (bytes.size() >= 84) {

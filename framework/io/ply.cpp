@@ -309,9 +309,22 @@ struct Reader {
     if (out.has_normals) out.normals.insert(out.normals.end(), vals + 3, vals + 6);
   }
 
+  // An element without properties holds nothing: its entries are skipped at
+  // once (no loop over the count), and a count beyond the bytes that follow
+  // is a lying header, refused like any other.
+  bool SkipEmptyElement(const Elem& e, std::size_t remaining) {
+    if (!e.props.empty()) return false;
+    if (e.count > static_cast<std::uint64_t>(remaining))
+      ThrowAtLine(path, e.line,
+                  "element '" + e.name + "' has no properties but claims " + std::to_string(e.count) +
+                      " entries, more than the " + std::to_string(remaining) + " bytes after the header");
+    return true;
+  }
+
   void ReadBinaryElement(const Elem& e, std::size_t* pos, bool le, bool is_vertex, bool is_face) {
     CheckCount(e, bytes.size() - *pos);
-    const std::vector<Role> roles = Roles(e, is_vertex, is_face);
+    const std::vector<Role> roles = Roles(e, is_vertex, is_face);  // the vertex element needs x y z
+    if (SkipEmptyElement(e, bytes.size() - *pos)) return;
     if (is_vertex) {
       out.xyz.reserve(3 * e.count);
       if (out.has_normals) out.normals.reserve(3 * e.count);
@@ -365,7 +378,8 @@ struct Reader {
   }
 
   void ReadAsciiElement(const Elem& e, TokenStream* ts, bool is_vertex, bool is_face) {
-    const std::vector<Role> roles = Roles(e, is_vertex, is_face);
+    const std::vector<Role> roles = Roles(e, is_vertex, is_face);  // the vertex element needs x y z
+    if (SkipEmptyElement(e, ts->remaining())) return;
     if (is_vertex) {
       // The count is not trusted for allocation: an entry needs >= 2 bytes per
       // property, so a lying header reserves at most what the file could

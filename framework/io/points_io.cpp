@@ -247,6 +247,8 @@ PointCloud ReadPcd(const std::string& path, std::string_view bytes, PointReadRep
     f.offset = data == "binary" ? stride : ntok;
     stride += f.size * f.count;
     ntok += f.count;
+    if (stride > (1 << 28))  // sizes and counts are <= 2^20 each; many fields could overflow int
+      ThrowAtLine(path, fields_line, "a PCD point of more than 2^28 bytes");
   }
   auto find = [&](const char* name) -> const PcdField* {
     for (const PcdField& f : fields) {
@@ -263,6 +265,8 @@ PointCloud ReadPcd(const std::string& path, std::string_view bytes, PointReadRep
   const PcdField* use[6] = {fx, fy, fz, fn[0], fn[1], fn[2]};
   if (points < 0) {
     if (width < 0 || height < 0) ThrowAtLine(path, data_line, "PCD header has no POINTS count");
+    if (width > 0 && height > (std::int64_t{1} << 62) / width)
+      ThrowAtLine(path, data_line, "PCD WIDTH x HEIGHT overflows");
     points = width * height;
   }
   RawPoints raw;

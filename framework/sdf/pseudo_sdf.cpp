@@ -85,7 +85,9 @@ SdfSamples SampleSweptSdfGrid(const Mesh& mesh, const SweepOptions& sweep, const
                               const Context& ctx) {
   sweep.Check();
   grid.Check();
-  SdfSamples out = SampleSdfGrid(mesh, grid, ctx);  // the layout (and pose 0's values)
+  SdfGridOptions layout = grid;
+  layout.inside = SdfInside::kWinding;  // values replaced below: no voxelization
+  SdfSamples out = SampleSdfGrid(mesh, layout, ctx);  // the layout (and pose 0's values)
   ctx.CheckStop();
   const MatrixX3d P = out.points;
   out.values = SweptSignedDistance(mesh, sweep, P, grid.sign);

@@ -5,6 +5,10 @@
 #include "framework/spatial/winding_number.h"
 #include "framework/util/parallel.h"
 #include "framework/util/rng.h"
+#include "framework/voxel/doph_protocol.h"  // SignedVolume
+#include "framework/voxel/voxelize.h"
+
+#include <Eigen/Geometry>
 
 #include <algorithm>
 #include <cmath>
@@ -43,7 +47,48 @@ VectorXd SignedDistance(const Mesh& mesh, const MatrixX3d& points, SdfSign sign,
   return s;
 }
 
-SdfSamples SampleSdfGrid(const Mesh& mesh, const SdfGridOptions& options, const Context& ctx) {
+namespace {
+
+VoxelizeOptions SignVoxelizeOptions(SdfSign sign) {
+  VoxelizeOptions vo;  // fast, occupancy, open_mesh auto, orientation abs
+  if (sign == SdfSign::kExactWindingNumber) vo.method = "exact";
+  return vo;
+}
+
+// Unsigned distances with the sign of `inside` (1 = inside: negative).
+VectorXd Signed(const VectorXd& sq, const std::vector<std::uint8_t>& inside) {
+  VectorXd s(sq.size());
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    const double d = std::sqrt(sq[i]);
+    s[i] = inside[static_cast<std::size_t>(i)] ? -d : d;
+  }
+  return s;
+}
+
+// The report's rule, counts and warnings; the warnings go to the log.
+void FinishReport(const Mesh& mesh, const VoxelizeReport& vr, const VectorXd& s, const Context& ctx,
+                  SdfSignReport* rep) {
+  rep->rule = "voxelizer:" + vr.path;
+  rep->unbalanced_edges = vr.unbalanced_edges;
+  rep->shell_samples = vr.shell_nodes;
+  rep->signed_volume = SignedVolume(mesh);
+  rep->inside = (s.array() < 0.0).count();
+  if (vr.unbalanced_edges > 0)
+    rep->warnings.push_back("the mesh is not closed or not consistently oriented (" +
+                            std::to_string(vr.unbalanced_edges) +
+                            " unbalanced edges): SDF sign by the voxelizer's rule |w| > 1/2 plus a thin shell "
+                            "around open sheets (" + std::to_string(vr.shell_nodes) + " samples by the shell)");
+  else if (rep->signed_volume < 0.0)
+    rep->warnings.push_back("the mesh is closed but faces inward (negative volume): SDF sign by |w| > 1/2");
+  if (rep->inside == 0)
+    rep->warnings.push_back("no sample is inside the mesh: the SDF is all positive");
+  for (const auto& w : rep->warnings) ctx.Warn("sdf: " + w);
+}
+
+}  // namespace
+
+SdfSamples SampleSdfGrid(const Mesh& mesh, const SdfGridOptions& options, const Context& ctx,
+                         SdfSignReport* report) {
   options.Check();
   if (mesh.Empty()) throw Error("SampleSdfGrid: the mesh is empty");
   const int m = options.n + 1;
@@ -72,13 +117,34 @@ SdfSamples SampleSdfGrid(const Mesh& mesh, const SdfGridOptions& options, const 
   }, 1 << 14);
   ctx.CheckStop();
   const MatrixX3d P = out.points;  // MatrixXd (dynamic columns) -> N x 3
-  out.values = SignedDistance(mesh, P, options.sign, options.fwn_beta);
+  SdfSignReport local;
+  SdfSignReport* rep = report ? report : &local;
+  *rep = SdfSignReport{};
+  if (options.inside == SdfInside::kWinding) {
+    out.values = SignedDistance(mesh, P, options.sign, options.fwn_beta);
+    rep->rule = "winding";
+    rep->inside = (out.values.array() < 0.0).count();
+  } else {
+    // The voxelizer's occupancy of this very grid: node for node the same
+    // inside as `arcs voxelize` (GridCoord is the same linspace).
+    VectorXd sq;
+    TriangleBvh(mesh).ClosestPoints(P, &sq);
+    ctx.CheckStop();
+    VoxelizeOptions vo = SignVoxelizeOptions(options.sign);
+    vo.beta = options.fwn_beta;
+    VoxelizeReport vr;
+    const VolumeGrid occ = Voxelize(mesh, grid, vo, &vr);
+    std::vector<std::uint8_t> in(static_cast<std::size_t>(total));
+    for (std::int64_t i = 0; i < total; ++i) in[static_cast<std::size_t>(i)] = occ.values[i] > 0.5;
+    out.values = Signed(sq, in);
+    FinishReport(mesh, vr, out.values, ctx, rep);
+  }
   out.grid = grid;
   return out;
 }
 
 SdfSamples SampleSdfRandom(const Mesh& mesh, std::int64_t count, double lo, double hi,
-                           const Context& ctx, SdfSign sign) {
+                           const Context& ctx, SdfSign sign, SdfInside inside, SdfSignReport* report) {
   if (count < 0) throw Error("SampleSdfRandom: count = " + std::to_string(count) + " < 0");
   if (!(std::isfinite(lo) && std::isfinite(hi) && hi > lo)) {
     throw Error("SampleSdfRandom: the box [lo, hi] must be finite with hi > lo");
@@ -95,7 +161,25 @@ SdfSamples SampleSdfRandom(const Mesh& mesh, std::int64_t count, double lo, doub
   ctx.CheckStop();
   SdfSamples out;
   out.dim = 3;
-  out.values = SignedDistance(mesh, P, sign);
+  SdfSignReport local;
+  SdfSignReport* rep = report ? report : &local;
+  *rep = SdfSignReport{};
+  if (inside == SdfInside::kWinding) {
+    out.values = SignedDistance(mesh, P, sign);
+    rep->rule = "winding";
+    rep->inside = (out.values.array() < 0.0).count();
+  } else {
+    VectorXd sq;
+    TriangleBvh(mesh).ClosestPoints(P, &sq);
+    ctx.CheckStop();
+    // The open-mesh shell's spacing: that of a grid with as many nodes.
+    const double per_axis = std::max(2.0, std::cbrt(static_cast<double>(std::max<std::int64_t>(count, 8))));
+    const double h = (hi - lo) / (per_axis - 1.0);
+    VoxelizeReport vr;
+    const std::vector<std::uint8_t> in = OccupancyAtPoints(mesh, P, h, SignVoxelizeOptions(sign), &vr);
+    out.values = Signed(sq, in);
+    FinishReport(mesh, vr, out.values, ctx, rep);
+  }
   out.points = P;
   return out;
 }

@@ -253,6 +253,18 @@ struct Bounds {
 constexpr int kBins = 16;
 constexpr int kMaxLeaf = 4;
 
+// Bin of centroid coordinate c in [lo, lo + extent]: always in [0, kBins),
+// for any finite input. The position is a quotient (not c * (kBins / extent)):
+// a subnormal extent makes kBins / extent infinite and 0 * inf NaN, and a NaN
+// cast to int is undefined (it gave INT_MIN, an out-of-bounds index). An
+// overflowing extent (+inf) gives t = 0; NaN goes to bin 0.
+inline int BinOf(double c, double lo, double extent) {
+  const double t = (c - lo) / extent * kBins;
+  if (!(t > 0.0)) return 0;
+  if (t >= kBins - 1) return kBins - 1;
+  return static_cast<int>(t);
+}
+
 }  // namespace
 
 void TriangleBvh::Impl::Build() {
@@ -268,7 +280,7 @@ void TriangleBvh::Impl::Build() {
                    z = mesh.V(mesh.F(f, 2), k);
       it.lo[k] = std::min({x, y, z});
       it.hi[k] = std::max({x, y, z});
-      it.c[k] = 0.5 * (it.lo[k] + it.hi[k]);
+      it.c[k] = 0.5 * it.lo[k] + 0.5 * it.hi[k];  // no overflow near +-DBL_MAX
     }
   }
   std::vector<std::int32_t> order(nf);
@@ -308,12 +320,11 @@ void TriangleBvh::Impl::Build() {
     for (int axis = 0; axis < 3; ++axis) {
       const double extent = cbox.hi[axis] - cbox.lo[axis];
       if (!(extent > 0.0)) continue;
-      const double scale = kBins / extent;
       Bounds bin_box[kBins];
       int bin_count[kBins] = {};
       for (int i = task.begin; i < task.end; ++i) {
         const BuildItem& it = items[order[i]];
-        const int b = std::min(kBins - 1, static_cast<int>((it.c[axis] - cbox.lo[axis]) * scale));
+        const int b = BinOf(it.c[axis], cbox.lo[axis], extent);
         bin_count[b]++;
         bin_box[b].Grow(it.lo, it.hi);
       }
@@ -347,13 +358,11 @@ void TriangleBvh::Impl::Build() {
     if (best_axis < 0) {
       mid = task.begin + n / 2;  // all centroids coincide: split by count
     } else {
-      const double scale = kBins / (cbox.hi[best_axis] - cbox.lo[best_axis]);
+      const double extent = cbox.hi[best_axis] - cbox.lo[best_axis];
       auto it = std::partition(order.begin() + task.begin, order.begin() + task.end,
                                [&](std::int32_t f) {
-                                 const int b = std::min(
-                                     kBins - 1, static_cast<int>((items[f].c[best_axis] -
-                                                                  cbox.lo[best_axis]) * scale));
-                                 return b <= best_split;
+                                 return BinOf(items[f].c[best_axis], cbox.lo[best_axis], extent) <=
+                                        best_split;
                                });
       mid = static_cast<int>(it - order.begin());
       if (mid == task.begin || mid == task.end) mid = task.begin + n / 2;

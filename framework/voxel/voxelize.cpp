@@ -53,6 +53,15 @@ MatrixX3d GridNodes(const GridInfo& g) {
 }
 
 namespace {
+
+// floor/ceil of a grid position, clamped to [lo, hi] before the cast to int:
+// a coordinate far outside the grid (1e300 / h) or a NaN position must not
+// reach static_cast<int> (undefined beyond the int range).
+inline int ClampIndex(double x, int lo, int hi) {
+  if (!(x > lo)) return lo;
+  if (x >= hi) return hi;
+  return static_cast<int>(x);
+}
 void CheckChoice(const std::string& name, const std::string& v, std::initializer_list<const char*> ok) {
   std::string list;
   for (const char* c : ok) {
@@ -261,10 +270,10 @@ void MarkCrossings(const Mesh& mesh, const GridInfo& g, std::vector<std::uint8_t
       const double s = area2 >= 0.0 ? 1.0 : -1.0;
       const bool conditioned = std::abs(area2) >= 1e-3 * n3 && std::abs(area2) > 0.0;
       const double tol_t = 1e-9 * L + (conditioned ? 1e-10 * lt * lt * lt / std::abs(area2) : 0.0);
-      const int j0 = std::max(0, static_cast<int>(std::floor((tmin[u] - tol_l - g.min[u]) / h[u])));
-      const int j1 = std::min(g.dims[u] - 1, static_cast<int>(std::ceil((tmax[u] + tol_l - g.min[u]) / h[u])));
-      const int k0 = std::max(0, static_cast<int>(std::floor((tmin[v] - tol_l - g.min[v]) / h[v])));
-      const int k1 = std::min(g.dims[v] - 1, static_cast<int>(std::ceil((tmax[v] + tol_l - g.min[v]) / h[v])));
+      const int j0 = ClampIndex(std::floor((tmin[u] - tol_l - g.min[u]) / h[u]), 0, g.dims[u]);
+      const int j1 = ClampIndex(std::ceil((tmax[u] + tol_l - g.min[u]) / h[u]), -1, g.dims[u] - 1);
+      const int k0 = ClampIndex(std::floor((tmin[v] - tol_l - g.min[v]) / h[v]), 0, g.dims[v]);
+      const int k1 = ClampIndex(std::ceil((tmax[v] + tol_l - g.min[v]) / h[v]), -1, g.dims[v] - 1);
       for (int j = j0; j <= j1; ++j) {
         const double U = GridCoord(g, u, j);
         if (U < tmin[u] - tol_l || U > tmax[u] + tol_l) continue;
@@ -284,8 +293,8 @@ void MarkCrossings(const Mesh& mesh, const GridInfo& g, std::vector<std::uint8_t
           }
           // Edges i (from node i to i + 1 along a) meeting [tlo, thi].
           const int na = g.dims[a];
-          int i0 = std::max(0, static_cast<int>(std::floor((tlo - g.min[a]) / h[a])) - 1);
-          int i1 = std::min(na - 2, static_cast<int>(std::floor((thi - g.min[a]) / h[a])) + 1);
+          int i0 = ClampIndex(std::floor((tlo - g.min[a]) / h[a]) - 1, 0, na - 1);
+          int i1 = ClampIndex(std::floor((thi - g.min[a]) / h[a]) + 1, -1, na - 2);
           while (i0 <= i1 && GridCoord(g, a, i0 + 1) < tlo) ++i0;
           while (i1 >= i0 && GridCoord(g, a, i1) > thi) --i1;
           if (i0 > i1) continue;
@@ -406,11 +415,9 @@ VectorXd FloodWinding(const Mesh& mesh, const GridInfo& g, bool abs, VoxelizeRep
   return w;
 }
 
-// The auto open-mesh rule: nodes near "sheet" faces become occupied.
-void AddSheetShell(const Mesh& mesh, const GridInfo& g, Sum sum, const VoxelizeOptions& o, bool abs, VectorXd* occ,
-                   VoxelizeReport* rep) {
-  double h = INFINITY;
-  for (int a = 0; a < 3; ++a) h = std::min(h, (g.max[a] - g.min[a]) / (g.dims[a] - 1));
+// The "sheet" faces of the auto open-mesh rule: faces whose two sides (at
+// +-h/2 along the normal from the centroid) get the same threshold answer.
+Mesh SheetFaces(const Mesh& mesh, double h, Sum sum, const VoxelizeOptions& o, bool abs, VoxelizeReport* rep) {
   const int nf = mesh.NumFaces();
   MatrixX3d S(2 * static_cast<std::int64_t>(nf), 3);
   for (int f = 0; f < nf; ++f) {
@@ -432,11 +439,20 @@ void AddSheetShell(const Mesh& mesh, const GridInfo& g, Sum sum, const VoxelizeO
   for (int f = 0; f < nf; ++f)
     if ((Orient(ws[2 * f], abs) > 0.5) == (Orient(ws[2 * f + 1], abs) > 0.5)) sheet.push_back(f);
   rep->sheet_faces = static_cast<std::int64_t>(sheet.size());
-  if (sheet.empty()) return;
   Mesh sm;
   sm.V = mesh.V;
   sm.F.resize(static_cast<int>(sheet.size()), 3);
   for (std::size_t i = 0; i < sheet.size(); ++i) sm.F.row(static_cast<int>(i)) = mesh.F.row(sheet[i]);
+  return sm;
+}
+
+// The auto open-mesh rule: nodes near "sheet" faces become occupied.
+void AddSheetShell(const Mesh& mesh, const GridInfo& g, Sum sum, const VoxelizeOptions& o, bool abs, VectorXd* occ,
+                   VoxelizeReport* rep) {
+  double h = INFINITY;
+  for (int a = 0; a < 3; ++a) h = std::min(h, (g.max[a] - g.min[a]) / (g.dims[a] - 1));
+  const Mesh sm = SheetFaces(mesh, h, sum, o, abs, rep);
+  if (sm.NumFaces() == 0) return;
   const double t = std::max(0.5 * o.epsilon, 0.87 * h);
   // Candidates: nodes in the sheet faces' boxes grown by t.
   std::vector<std::uint8_t> cand(g.NumNodes(), 0);
@@ -446,8 +462,8 @@ void AddSheetShell(const Mesh& mesh, const GridInfo& g, Sum sum, const VoxelizeO
       double mn = INFINITY, mx = -INFINITY;
       for (int c = 0; c < 3; ++c) mn = std::min(mn, sm.V(sm.F(f, c), a)), mx = std::max(mx, sm.V(sm.F(f, c), a));
       const double ha = (g.max[a] - g.min[a]) / (g.dims[a] - 1);
-      lo[a] = std::max(0, static_cast<int>(std::floor((mn - t - g.min[a]) / ha)));
-      hi[a] = std::min(g.dims[a] - 1, static_cast<int>(std::ceil((mx + t - g.min[a]) / ha)));
+      lo[a] = ClampIndex(std::floor((mn - t - g.min[a]) / ha), 0, g.dims[a]);
+      hi[a] = ClampIndex(std::ceil((mx + t - g.min[a]) / ha), -1, g.dims[a] - 1);
     }
     for (int k = lo[2]; k <= hi[2]; ++k)
       for (int j = lo[1]; j <= hi[1]; ++j)
@@ -539,6 +555,77 @@ VolumeGrid Voxelize(const Mesh& mesh_in, const GridInfo& grid, const VoxelizeOpt
     out.values = std::move(w);
   }
   return out;
+}
+
+std::vector<std::uint8_t> OccupancyAtPoints(const Mesh& mesh_in, const MatrixX3d& Q, double h,
+                                            const VoxelizeOptions& o, VoxelizeReport* report) {
+  o.Check();
+  if (!(std::isfinite(h) && h > 0.0)) throw OptionError("OccupancyAtPoints: the shell spacing h must be finite and > 0");
+  if (o.method == "ray_parity") throw OptionError("OccupancyAtPoints: method ray_parity works on grids only");
+  CheckMeshIndices(mesh_in, "OccupancyAtPoints", /*finite=*/true);
+  VoxelizeReport local;
+  VoxelizeReport& rep = report ? *report : local;
+  rep = VoxelizeReport{};
+  Mesh mesh = DropDegenerateFaces(mesh_in, &rep.dropped_faces);
+  if (o.open_mesh == "flip_dup") mesh = FlipDuplicate(mesh, o.epsilon);
+  const bool abs = o.orientation == "abs";
+  rep.unbalanced_edges = CountUnbalancedEdges(mesh);
+  rep.balanced = rep.unbalanced_edges == 0;
+  const std::int64_t n = Q.rows();
+  std::vector<std::uint8_t> occ(static_cast<std::size_t>(n), 0);
+  if (mesh.NumFaces() == 0 || n == 0) {
+    rep.path = mesh.NumFaces() == 0 ? "empty" : "hierarchy";
+    return occ;
+  }
+  // The grid path's sums without a grid: no flood fill (it needs grid
+  // edges), so a balanced mesh takes the hierarchy + exact band too, whose
+  // sign is exact away from the band (docs/voxelization.md).
+  Sum sum = Sum::kFast;
+  VectorXd w;
+  if (o.method == "exact") {
+    sum = Sum::kExact;
+    rep.path = "exact";
+    w = WindingNumbersExact(mesh, Q);
+    rep.exact_evaluations = n;
+  } else if (o.method == "naive") {
+    sum = Sum::kNaive;
+    rep.path = "naive";
+    w = WindingNumbersNaive(mesh, Q);
+  } else {
+    rep.path = "hierarchy";
+    FastWindingNumber::Options fo;
+    fo.beta = o.beta;
+    w = FastWindingNumber(mesh, fo).Eval(Q);
+    if (o.exact_band > 0.0) {
+      std::vector<std::int64_t> redo;
+      for (std::int64_t r = 0; r < n; ++r)
+        if (std::abs(Orient(w[r], abs) - 0.5) < o.exact_band) redo.push_back(r);
+      if (!redo.empty()) {
+        MatrixX3d R(static_cast<std::int64_t>(redo.size()), 3);
+        for (std::size_t i = 0; i < redo.size(); ++i) R.row(static_cast<std::int64_t>(i)) = Q.row(redo[i]);
+        const VectorXd we = WindingNumbersExact(mesh, R);
+        for (std::size_t i = 0; i < redo.size(); ++i) w[redo[i]] = we[static_cast<std::int64_t>(i)];
+        rep.exact_evaluations += static_cast<std::int64_t>(redo.size());
+      }
+    }
+  }
+  for (std::int64_t p = 0; p < n; ++p) occ[p] = Orient(w[p], abs) > 0.5 ? 1 : 0;
+  if (o.open_mesh == "auto" && !rep.balanced && sum != Sum::kNaive) {
+    const Mesh sm = SheetFaces(mesh, h, sum, o, abs, &rep);
+    if (sm.NumFaces() > 0) {
+      const double t = std::max(0.5 * o.epsilon, 0.87 * h);
+      const TriangleBvh bvh(sm);
+      std::vector<std::uint8_t> in(occ.size(), 0);
+      ParallelFor(n, [&](std::int64_t b, std::int64_t e) {
+        for (std::int64_t r = b; r < e; ++r)
+          if (!occ[r]) in[r] = bvh.Closest(Q.row(r).transpose(), t * t).face >= 0;
+      }, 256);
+      for (std::int64_t r = 0; r < n; ++r)
+        if (in[r]) occ[r] = 1, ++rep.shell_nodes;
+    }
+  }
+  for (std::uint8_t v : occ) rep.occupied += v;
+  return occ;
 }
 
 SignCheck VerifyOccupancy(const Mesh& mesh_in, const VolumeGrid& occ, const std::string& orientation, double margin,

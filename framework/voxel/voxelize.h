@@ -75,6 +75,16 @@ struct VoxelizeReport {
 VolumeGrid Voxelize(const Mesh& mesh, const GridInfo& grid, const VoxelizeOptions& options,
                     VoxelizeReport* report = nullptr);
 
+// The same inside rule at arbitrary points Q (SDF signs of scattered
+// samples): the threshold of `orientation` on the hierarchical winding number
+// with the exact band (method fast; a balanced mesh gets no flood fill here,
+// it needs grid edges), the exact or the naive sum; then, for a mesh with
+// unbalanced edges under open_mesh "auto", the thin shell of the sheet faces
+// with the node spacing `h` a grid would have. 1 = inside. The report's
+// shell_nodes counts points made inside by the shell only.
+std::vector<std::uint8_t> OccupancyAtPoints(const Mesh& mesh, const MatrixX3d& Q, double h,
+                                            const VoxelizeOptions& options, VoxelizeReport* report = nullptr);
+
 // Paper Alg. 2: V' = V - epsilon * N (area-weighted vertex normals; zero
 // normals give no offset), F' = F flipped, returns (V u V', F u F').
 Mesh FlipDuplicate(const Mesh& mesh, double epsilon);

@@ -247,5 +247,36 @@ TEST(TriangleBvh, EmptyMesh) {
   EXPECT_TRUE(std::isinf(d2[0]));
 }
 
+
+// Issue 15: a subnormal or near-overflow coordinate made a bin index NaN ->
+// INT_MIN (an out-of-bounds stack write in the build). Any finite input must
+// build and answer in bounds (ASan/UBSan run this).
+TEST(TriangleBvh, ExtremeFiniteCoordinatesStayInBounds) {
+  const double vals[] = {1e-310, 4.9e-324, 1e-300, 1e308, -1e308, 1.7976931348623157e308};
+  for (double x : vals) {
+    Mesh m;
+    m.V.resize(6, 3);
+    m.V << x, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, x, x, x, -x, 0, -x;
+    m.F.resize(5, 3);
+    m.F << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2, 3, 4, 5;
+    const TriangleBvh bvh(m);
+    const auto hit = bvh.Closest(Vec3(0.25, 0.25, 0.25));
+    // Near DBL_MAX squared distances overflow: "nothing found" is allowed there.
+    if (std::abs(x) < 1e150) EXPECT_GE(hit.face, 0) << x;
+    EXPECT_GE(hit.face, -1) << x;
+    EXPECT_LT(hit.face, m.NumFaces()) << x;
+    // Many triangles sharing a subnormal-wide centroid spread.
+    Mesh many;
+    many.V.resize(3 * 64, 3);
+    many.F.resize(64, 3);
+    for (int f = 0; f < 64; ++f) {
+      for (int k = 0; k < 3; ++k) many.V.row(3 * f + k) = Vec3(f * x * 1e-3, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0);
+      many.F.row(f) << 3 * f, 3 * f + 1, 3 * f + 2;
+    }
+    const TriangleBvh b2(many);
+    if (std::abs(x) < 1e150) EXPECT_GE(b2.Closest(Vec3(0, 0.5, 0.5)).face, 0) << x;
+  }
+}
+
 }  // namespace
 }  // namespace arcs

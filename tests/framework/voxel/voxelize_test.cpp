@@ -256,5 +256,27 @@ TEST(DophProtocol, SmoothingKeepsVolumeAndMetricsAreSmallOnASphere) {
   EXPECT_GT(a.chamfer_std, 0.0);
 }
 
+
+// Issue 15: a face far outside the grid (1e300 / h) must not reach an int
+// cast out of range (UBSan) or a signed overflow; the grid stays valid.
+TEST(Voxelize, FacesFarOutsideTheGridStayInBounds) {
+  Mesh m = MakeBuiltinShape("sphere");
+  const int nv = m.NumVertices();
+  m.V.conservativeResize(nv + 3, 3);
+  m.V.row(nv) = Vec3(1e300, 1e300, 1e300);
+  m.V.row(nv + 1) = Vec3(-1e300, 1e300, 0);
+  m.V.row(nv + 2) = Vec3(1e300, -1e300, 1e-310);
+  const int nf = m.NumFaces();
+  m.F.conservativeResize(nf + 1, 3);
+  m.F.row(nf) << nv, nv + 1, nv + 2;
+  for (const char* method : {"fast", "exact"}) {
+    VoxelizeOptions o;
+    o.method = method;
+    const VolumeGrid g = Voxelize(m, CubeGrid(12, Vec3::Constant(-1), Vec3::Constant(1)), o);
+    EXPECT_TRUE(g.values.allFinite());
+    EXPECT_GT(g.values.sum(), 0.0) << method;
+  }
+}
+
 }  // namespace
 }  // namespace arcs
