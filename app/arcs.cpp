@@ -2,6 +2,7 @@
 #include "framework/eval/metrics.h"
 #include "framework/experiment/csv.h"
 #include "framework/experiment/experiment.h"
+#include "framework/experiment/results_dir.h"
 #include "framework/experiment/runner.h"
 #include "framework/experiment/tables.h"
 #include "framework/experiment/version.h"
@@ -46,8 +47,14 @@ usage: arcs <command> [options]
 commands:
   run EXP.yaml [--set path.to.param=value]... [--jobs N] [--threads T] [--out DIR]
                [--retry-failed] [--no-isolate] [--quiet] [--save-outputs]
+               [--shard I/N] [--dry-run]
                              expand the experiment into cases and run them; resumes;
                              --save-outputs: each case's mesh/curve/points into DIR/outputs/
+                             --shard I/N: only shard I of N (default: a Slurm array task's);
+                             --dry-run: list the cases (and their count), run nothing
+  slurm EXP.yaml --array N --out DIR [options] [--submit]
+                             an sbatch job array running the shards, and the table job
+                             (`arcs slurm --help`)
   table RESULTS_DIR [--tables EXP.yaml]
                              rebuild the tables from RESULTS_DIR/results.csv
   list                       every registered stage, by role
@@ -114,10 +121,8 @@ int CmdDescribe(const Registry& registry, const std::string& name) {
 }
 
 int WriteTablesFor(const std::vector<TableSpec>& specs, const std::string& dir, bool print) {
-  const std::string results = (fs::path(dir) / "results.csv").string();
-  if (!fs::exists(results)) throw Error(results + ": no results file (run the experiment first)");
-  const CsvTable t = ReadCsv(results);
   std::vector<std::string> warnings;
+  const CsvTable t = ReadResultsDir(dir, &warnings);  // results.csv and every shard's file
   const auto tables = BuildTables(specs, t, &warnings);
   for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const std::string md = WriteTables(tables, (fs::path(dir) / "tables").string());
@@ -140,9 +145,12 @@ int CmdRun(Registry& registry, const Args& args, int argc, char** argv) {
   o.retry_failed = args.Has("--retry-failed");
   o.save_outputs = args.Has("--save-outputs");
   o.progress = !args.Has("--quiet");
+  o.shard = args.Has("--shard") ? ParseShard(args.Get("--shard")) : ShardFromEnvironment();
+  if (args.Has("--dry-run")) return ListCases(exp, registry, o) >= 0 ? 0 : 1;
   for (int i = 0; i < argc; ++i) o.command_line.push_back(argv[i]);
   const RunSummary s = RunExperiment(exp, registry, o);
-  if (!exp.tables.empty()) WriteTablesFor(exp.tables, o.out_dir, !args.Has("--quiet"));
+  if (o.shard.sharded()) std::fprintf(stderr, "shard %s done; the tables: `arcs table %s` once every shard is\n", o.shard.Text().c_str(), o.out_dir.c_str());
+  else if (!exp.tables.empty()) WriteTablesFor(exp.tables, o.out_dir, !args.Has("--quiet"));
   std::fprintf(stderr, "results: %s/results.csv\n", o.out_dir.c_str());
   return s.interrupted ? 130 : 0;
 }
@@ -377,8 +385,8 @@ int main(int argc, char** argv) {
       return CmdDescribe(registry, a.positional[0]);
     }
     if (cmd == "run") {
-      const Args a = Parse(argc, argv, 2, {"--plugin", "--set", "--jobs", "--threads", "--out"},
-                           {"--retry-failed", "--no-isolate", "--quiet", "--save-outputs"});
+      const Args a = Parse(argc, argv, 2, {"--plugin", "--set", "--jobs", "--threads", "--out", "--shard"},
+                           {"--retry-failed", "--no-isolate", "--quiet", "--save-outputs", "--dry-run"});
       LoadPlugins(registry, a);
       return CmdRun(registry, a, argc, argv);
     }
@@ -394,6 +402,7 @@ int main(int argc, char** argv) {
     if (cmd == "shape") return CmdShape(Parse(argc, argv, 2, {}, {}));
     if (cmd == "voxelize") return CmdVoxelize(registry, argc, argv);
     if (cmd == "morph") return CmdMorph(registry, argc, argv);
+    if (cmd == "slurm") return CmdSlurm(registry, argc, argv);
     if (cmd == "version") {
       std::printf("arcs 0.1.0 (git %s, %s build, plugin API %d)\n", GitRevision(), BuildType(), ARCS_PLUGIN_API_VERSION);
       return 0;

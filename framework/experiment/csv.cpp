@@ -47,7 +47,10 @@ CsvTable ReadCsv(const std::string& path) {
   if (!in) throw InputError(path, 0, "cannot open CSV file");
   std::stringstream ss;
   ss << in.rdbuf();
-  const std::string text = ss.str();
+  return ParseCsv(ss.str(), path);
+}
+
+CsvTable ParseCsv(const std::string& text, const std::string& path) {
   CsvTable t;
   size_t i = 0;
   long line = 1;
@@ -147,10 +150,13 @@ void ResultsCsv::Append(const std::vector<std::pair<std::string, std::string>>& 
   const std::string line = CsvLine(cells);
   const int fd = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_CREAT, 0644);
   if (fd < 0) throw Error("cannot append to " + path_);
+  const off_t before = ::lseek(fd, 0, SEEK_END);
   const ssize_t w = ::write(fd, line.data(), line.size());
+  // A partial row (disk full) is taken back, so the file stays whole.
+  if (w != static_cast<ssize_t>(line.size()) && before >= 0) (void)::ftruncate(fd, before);
   ::fsync(fd);
   ::close(fd);
-  if (w != static_cast<ssize_t>(line.size())) throw Error("short write to " + path_);
+  if (w != static_cast<ssize_t>(line.size())) throw Error("short write to " + path_ + " (disk full?); the row was not kept");
 }
 
 }  // namespace arcs

@@ -18,6 +18,8 @@ struct CsvTable {
 // Reads a CSV file; lines starting with '#' (before the header or between
 // rows) are skipped. Throws InputError with the line on a malformed row.
 CsvTable ReadCsv(const std::string& path);
+// The same from text; `path` names it in errors.
+CsvTable ParseCsv(const std::string& text, const std::string& path);
 
 std::string CsvEscape(const std::string& field);
 std::string CsvLine(const std::vector<std::string>& fields);

@@ -736,6 +736,17 @@ namespace {
 std::vector<std::vector<StageSpec>> ExpandPipeline(const PipelineSpec& p, const Registry& registry) {
   std::vector<std::vector<StageSpec>> out(1);
   for (const auto& entry : p.stages) {
+    // A value swept twice would run the same case twice under one id: refused.
+    for (const auto& [key, values] : entry.values) {
+      std::map<std::string, size_t> seen;
+      for (size_t i = 0; i < values.size(); ++i) {
+        const std::string v = FormatParamValue(values[i]);
+        if (!seen.emplace(v, i).second)
+          throw ExperimentError(entry.where + ": " + p.name + "." + entry.stage + ".params." + key + ": sweep value " +
+                                v + " is listed twice (at [" + std::to_string(seen[v]) + "] and [" + std::to_string(i) +
+                                "]); each value runs once, remove the repeat");
+      }
+    }
     // Product over this entry's parameters.
     std::vector<ParamMap> variants(1);
     for (const auto& [key, values] : entry.values) {
@@ -794,7 +805,38 @@ std::string Hex16(std::uint64_t x) {
 
 }  // namespace
 
+static std::uint64_t MaxCases() {
+  if (const char* v = std::getenv("ARCS_MAX_CASES")) {
+    char* end = nullptr;
+    const unsigned long long x = std::strtoull(v, &end, 10);
+    if (*v && !*end && x > 0) return x;
+    throw ExperimentError(std::string("$ARCS_MAX_CASES = '") + v + "' is not a positive integer");
+  }
+  return 100000;
+}
+
 std::vector<Case> ExpandCases(const Experiment& exp, const Registry& registry) {
+  // Count first (saturating), so a huge sweep is an error, not an out-of-memory.
+  {
+    const std::uint64_t cap = MaxCases(), big = std::uint64_t(1) << 62;
+    auto mul = [&](std::uint64_t a, std::uint64_t b) { return a == 0 || b <= big / a ? a * b : big; };
+    auto variants = [&](const PipelineSpec& p) {
+      std::uint64_t n = 1;
+      for (const auto& e : p.stages)
+        for (const auto& kv : e.values) n = mul(n, kv.second.size());
+      return n;
+    };
+    std::uint64_t items = 0, ins = exp.inputs.empty() ? 1 : 0, ms = 0;
+    for (const auto& ds : exp.datasets) items = std::min(big, items + ds.files.size());
+    for (const auto& in : exp.inputs) ins = std::min(big, ins + variants(in));
+    for (const auto& m : exp.methods) ms = std::min(big, ms + variants(m));
+    const std::uint64_t total = mul(mul(items, ins), ms);
+    if (total > cap)
+      throw ExperimentError(exp.file + ": the experiment expands to " + (total >= big ? "more than 4e18" : std::to_string(total)) +
+                            " cases (" + std::to_string(items) + " items x " + std::to_string(ins) + " input variants x " +
+                            std::to_string(ms) + " method variants), more than the limit of " + std::to_string(cap) +
+                            "; sweep fewer values, or raise the limit with ARCS_MAX_CASES");
+  }
   std::vector<Case> cases;
   std::vector<std::pair<std::string, std::vector<std::vector<StageSpec>>>> inputs;
   if (exp.inputs.empty()) inputs.push_back({"none", {{}}});
@@ -844,6 +886,17 @@ std::vector<Case> ExpandCases(const Experiment& exp, const Registry& registry) {
           }
         }
       }
+    }
+  }
+  // The same case twice (a file listed twice, overlapping globs): refused.
+  {
+    std::map<std::string, size_t> seen;
+    for (size_t i = 0; i < cases.size(); ++i) {
+      const auto [it, fresh] = seen.emplace(cases[i].id, i);
+      if (!fresh)
+        throw ExperimentError(exp.file + ": case " + cases[i].id + " appears twice (" + cases[it->second].item_path +
+                              " | " + cases[i].input + " | " + cases[i].method +
+                              "): an item listed twice in a dataset, or two datasets with the same files? each case runs once");
     }
   }
   // Which parameter columns vary (shown in progress labels).

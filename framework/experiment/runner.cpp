@@ -3,12 +3,15 @@
 #include "framework/experiment/csv.h"
 #include "framework/experiment/tables.h"
 #include "framework/experiment/version.h"
+#include "framework/util/cpus.h"
 #include "registry/plugin.h"
 #include "registry/plugin_api.h"
 
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <signal.h>
+#include <cerrno>
 #include <csignal>
 #include <unistd.h>
 
@@ -169,7 +172,8 @@ YAML::Node ResolvedConfig(const Experiment& exp, const Registry& registry) {
   return doc;
 }
 
-void WriteProvenance(const Experiment& exp, const RunOptions& o, const std::string& path, int threads) {
+std::string ProvenanceText(const Experiment& exp, const RunOptions& o, int threads, const CpuAllocation& cpu,
+                           const std::string& experiment_id) {
   YAML::Emitter e;
   e << YAML::BeginMap;
   e << YAML::Key << "arcs_version" << YAML::Value << "0.1.0";
@@ -182,7 +186,17 @@ void WriteProvenance(const Experiment& exp, const RunOptions& o, const std::stri
   e << YAML::Key << "build_type" << YAML::Value << BuildType();
   e << YAML::Key << "host" << YAML::Value << Hostname();
   e << YAML::Key << "cores" << YAML::Value << std::thread::hardware_concurrency();
+  e << YAML::Key << "cpus" << YAML::Value << cpu.cpus;
+  e << YAML::Key << "cpus_from" << YAML::Value << cpu.source;
+  e << YAML::Key << "affinity_cpus" << YAML::Value << cpu.affinity_cpus;
+  if (cpu.slurm_cpus > 0) e << YAML::Key << "slurm_cpus_per_task" << YAML::Value << cpu.slurm_cpus;
+  for (const char* v : {"SLURM_JOB_ID", "SLURM_ARRAY_JOB_ID", "SLURM_ARRAY_TASK_ID", "SLURM_JOB_PARTITION"})
+    if (const char* x = std::getenv(v)) e << YAML::Key << v << YAML::Value << x;
+  e << YAML::Key << "pid" << YAML::Value << static_cast<long>(getpid());
   e << YAML::Key << "started" << YAML::Value << Now();
+  e << YAML::Key << "experiment_id" << YAML::Value << experiment_id;
+  e << YAML::Key << "shard" << YAML::Value << o.shard.Text();
+  e << YAML::Key << "shard_from" << YAML::Value << (o.shard.source.empty() ? "none" : o.shard.source);
   e << YAML::Key << "experiment" << YAML::Value << fs::absolute(exp.file).string();
   e << YAML::Key << "seed" << YAML::Value << exp.seed;
   e << YAML::Key << "jobs" << YAML::Value << o.jobs;
@@ -198,7 +212,51 @@ void WriteProvenance(const Experiment& exp, const RunOptions& o, const std::stri
       << YAML::Flow << p.stages << YAML::EndMap;
   }
   e << YAML::EndSeq << YAML::EndMap;
-  std::ofstream(path) << e.c_str() << "\n";
+  return std::string(e.c_str()) + "\n";
+}
+
+// The results columns a run of these cases writes, in order: identity,
+// parameters, metrics, timings, where it ran.
+std::vector<std::string> PlannedColumns(const Experiment& exp, const Registry& registry, const std::vector<Case>& cases) {
+  std::vector<std::string> cols = {"case_id", "status", "error", "dataset", "item", "input", "method", "seed"};
+  for (const auto& c : cases)
+    for (const auto& [k, v] : c.params)
+      if (std::find(cols.begin(), cols.end(), k) == cols.end()) cols.push_back(k);
+  cols.insert(cols.end(), {"ref_faces", "ref_genus", "ref_closed", "input_samples"});
+  for (const auto& m : exp.metrics)
+    for (const auto& o : registry.Get(m.stage).outputs)
+      if (std::find(cols.begin(), cols.end(), o) == cols.end()) cols.push_back(o);
+  cols.insert(cols.end(), {"input_wall_s", "method_wall_s", "method_peak_rss_mb", "method_extra_rss_mb", "wall_s",
+                           "peak_rss_mb"});
+  return cols;
+}
+
+// What a table may name: the planned columns and every output any stage of
+// the experiment declares.
+std::vector<std::string> TableColumns(const Experiment& exp, const Registry& registry, std::vector<std::string> cols) {
+  auto add = [&](const std::string& stage) {
+    if (const StageInfo* info = registry.Find(stage))
+      for (const auto& o : info->outputs)
+        if (std::find(cols.begin(), cols.end(), o) == cols.end()) cols.push_back(o);
+  };
+  for (const auto* pls : {&exp.inputs, &exp.methods})
+    for (const auto& p : *pls)
+      for (const auto& e : p.stages) add(e.stage);
+  cols.insert(cols.end(), {"threads", "shard", "host", "git_revision", "output_file", "output_points_file"});
+  return cols;
+}
+
+// Removes the scratch directories of runners on this host that are gone
+// (killed with -9); others' are left alone.
+void RemoveStaleTmp(const fs::path& tmp_root, const std::string& host) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(tmp_root, ec)) {
+    const std::string n = e.path().filename().string();
+    const size_t dash = n.rfind('-');
+    if (dash == std::string::npos || n.substr(0, dash) != host) continue;
+    const long pid = std::strtol(n.c_str() + dash + 1, nullptr, 10);
+    if (pid > 0 && kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove_all(e.path(), ec);
+  }
 }
 
 }  // namespace
@@ -209,30 +267,50 @@ std::string DefaultOutDir(const Experiment& exp) {
 
 RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const RunOptions& options) {
   RunSummary summary;
-  const std::vector<Case> cases = ExpandCases(exp, registry);
-  summary.total = static_cast<int>(cases.size());
+  const std::vector<Case> cases = PlanCases(exp, registry);  // table mistakes found before any case runs
+  std::vector<std::string> cols = PlannedColumns(exp, registry, cases);
+  const std::vector<const Case*> mine = ShardCases(cases, options.shard);
+  summary.total = static_cast<int>(mine.size());
   const std::string out = options.out_dir.empty() ? DefaultOutDir(exp) : options.out_dir;
-  fs::create_directories(fs::path(out) / "logs");
-  fs::create_directories(fs::path(out) / "tmp");
-  const std::string outputs_dir =
-      options.save_outputs || exp.save_outputs ? (fs::path(out) / "outputs").string() : std::string();
-  if (!outputs_dir.empty()) fs::create_directories(outputs_dir);
+  const std::string host = Hostname();
+  fs::create_directories(fs::path(out) / "locks");
+  // One runner per results file: a second one on the same shard is refused.
+  const std::string results_name = ResultsFileName(options.shard);
+  FileLock shard_lock;
+  {
+    const std::string what = options.shard.sharded() ? "shard " + options.shard.Text() : "all cases (no --shard)";
+    std::string holder;
+    if (!shard_lock.TryLock((fs::path(out) / "locks" / (results_name + ".lock")).string(), "arcs run " + what, &holder))
+      throw Error(out + ": " + what + " of this directory is already being run (" + holder +
+                  "); wait for it to finish, or run another shard (--shard I/N)");
+  }
+  const CpuAllocation cpu = AvailableCpus();
   const int jobs = std::max(1, options.jobs);
-  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int threads = options.threads > 0 ? options.threads : std::max(1, cores / jobs);
-
+  const int threads = options.threads > 0 ? options.threads : std::max(1, cpu.cpus / jobs);
   {
     YAML::Emitter e;
     e << ResolvedConfig(exp, registry);
-    std::ofstream(fs::path(out) / "config.resolved.yaml") << e.c_str() << "\n";
+    ClaimResultsDir(out, exp, cases, std::string(e.c_str()) + "\n",
+                    ProvenanceText(exp, options, threads, cpu, ExperimentIdentity(cases)));
   }
-  WriteProvenance(exp, options, (fs::path(out) / "provenance.yaml").string(), threads);
+  fs::create_directories(fs::path(out) / "logs");
+  const fs::path tmp_dir = fs::path(out) / "tmp" / (host + "-" + std::to_string(getpid()));
+  RemoveStaleTmp(fs::path(out) / "tmp", host);
+  fs::create_directories(tmp_dir);
+  const std::string outputs_dir =
+      options.save_outputs || exp.save_outputs ? (fs::path(out) / "outputs").string() : std::string();
+  if (!outputs_dir.empty()) fs::create_directories(outputs_dir);
 
-  // Resume: cases already recorded are skipped.
-  ResultsCsv csv((fs::path(out) / "results.csv").string());
+  // This run's results file: a torn last row (disk full, power loss) is cut
+  // off before anything is appended.
+  const std::string results_path = (fs::path(out) / results_name).string();
+  if (const auto dropped = RepairTornTail(results_path))
+    std::fprintf(stderr, "warning: %s: its last row was incomplete (%ju bytes: a write cut short); removed, the case will run again\n",
+                 results_path.c_str(), dropped);
+  // Resume: cases recorded in any results file of the directory are skipped.
   std::set<std::string> done;
-  {
-    const CsvTable& t = csv.table();
+  if (!ResultsFiles(out).empty()) {
+    const CsvTable t = ReadResultsDir(out);
     const int id = t.Column("case_id"), st = t.Column("status");
     for (size_t r = 0; r < t.rows.size(); ++r) {
       if (id < 0) break;
@@ -240,25 +318,15 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
       if (status == "ok" || (status == "failed" && !options.retry_failed)) done.insert(t.rows[r][id]);
     }
   }
-  // Column order: identity, parameters, metrics, timings.
-  {
-    std::vector<std::string> cols = {"case_id", "status", "error", "dataset", "item", "input", "method", "seed"};
-    for (const auto& c : cases)
-      for (const auto& [k, v] : c.params)
-        if (std::find(cols.begin(), cols.end(), k) == cols.end()) cols.push_back(k);
-    cols.insert(cols.end(), {"ref_faces", "ref_genus", "ref_closed", "input_samples"});
-    for (const auto& m : exp.metrics)
-      for (const auto& o : registry.Get(m.stage).outputs)
-        if (std::find(cols.begin(), cols.end(), o) == cols.end()) cols.push_back(o);
-    cols.insert(cols.end(), {"input_wall_s", "method_wall_s", "method_peak_rss_mb", "method_extra_rss_mb", "wall_s",
-                             "peak_rss_mb"});
-    csv.EnsureColumns(cols);
-  }
+  ResultsCsv csv(results_path);
+  // Column order: identity, parameters, metrics, timings, where it ran.
+  cols.insert(cols.end(), {"threads", "shard", "host", "git_revision"});
+  csv.EnsureColumns(cols);
 
   std::vector<const Case*> todo;
-  for (const auto& c : cases) {
-    if (done.count(c.id)) ++summary.skipped;
-    else todo.push_back(&c);
+  for (const Case* c : mine) {
+    if (done.count(c->id)) ++summary.skipped;
+    else todo.push_back(c);
   }
 
   const auto start = std::chrono::steady_clock::now();
@@ -285,6 +353,10 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
     std::fflush(stderr);
   };
   auto record = [&](const Case& c, Row row) {
+    row.emplace_back("threads", std::to_string(threads));
+    row.emplace_back("shard", options.shard.Text());
+    row.emplace_back("host", host);
+    row.emplace_back("git_revision", GitRevision());
     csv.Append(row);
     std::string status, error;
     for (const auto& [k, v] : row) {
@@ -331,6 +403,7 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
       while (next < todo.size() && static_cast<int>(running.size()) < jobs && !g_interrupted) {
         const Case* c = todo[next++];
         std::fflush(nullptr);
+        const pid_t parent = getpid();
         const pid_t pid = fork();
         if (pid < 0) {
           Row row = {{"case_id", c->id}, {"status", "failed"}, {"error", "fork failed: " + std::string(std::strerror(errno))}};
@@ -338,6 +411,8 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
           continue;
         }
         if (pid == 0) {
+          prctl(PR_SET_PDEATHSIG, SIGKILL);  // a worker does not outlive its runner (kill -9)
+          if (getppid() != parent) _exit(1);
           // The worker ends here whatever happens: an exception must not
           // unwind into the parent's code path (it would run the loop on).
           int rc = 0;
@@ -345,7 +420,7 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
             signal(SIGINT, SIG_DFL);
             signal(SIGTERM, SIG_DFL);
             Row row = ExecuteCase(*c, registry, threads, log_for(*c), outputs_dir);
-            WriteRowFile((fs::path(out) / "tmp" / (c->id + ".row")).string(), row);
+            WriteRowFile((tmp_dir / (c->id + ".row")).string(), row);
           } catch (const std::exception& e) {
             std::fprintf(stderr, "arcs: worker of case %s: %s\n", c->id.c_str(), e.what());
             rc = 3;
@@ -364,7 +439,7 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
       if (pid > 0 && running.count(pid)) {
         const Case* c = running[pid].first;
         running.erase(pid);
-        const std::string row_file = (fs::path(out) / "tmp" / (c->id + ".row")).string();
+        const std::string row_file = (tmp_dir / (c->id + ".row")).string();
         Row row;
         if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && ReadRowFile(row_file, &row)) {
           // The kernel's figure for the whole worker process.
@@ -412,8 +487,40 @@ RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const 
                  summary.interrupted ? ", INTERRUPTED (re-run the same command to resume)" : "", Clock(elapsed()).c_str());
   }
   std::error_code ec;
-  fs::remove_all(fs::path(out) / "tmp", ec);
+  fs::remove_all(tmp_dir, ec);
+  fs::remove(fs::path(out) / "tmp", ec);  // only when empty: other runners' scratch stays
   return summary;
+}
+
+std::vector<Case> PlanCases(const Experiment& exp, const Registry& registry) {
+  std::vector<Case> cases = ExpandCases(exp, registry);
+  ValidateTables(exp.tables, TableColumns(exp, registry, PlannedColumns(exp, registry, cases)), exp.file);
+  return cases;
+}
+
+int ListCases(const Experiment& exp, const Registry& registry, const RunOptions& options) {
+  const std::vector<Case> cases = PlanCases(exp, registry);
+  const std::vector<const Case*> mine = ShardCases(cases, options.shard);
+  const std::string out = options.out_dir.empty() ? DefaultOutDir(exp) : options.out_dir;
+  std::set<std::string> done;
+  if (fs::exists(out) && !ResultsFiles(out).empty()) {
+    const CsvTable t = ReadResultsDir(out);
+    const int id = t.Column("case_id");
+    for (size_t r = 0; id >= 0 && r < t.rows.size(); ++r) done.insert(t.rows[r][id]);
+  }
+  std::printf("# %s: %zu cases%s (experiment id %s)\n", exp.name.c_str(), cases.size(),
+              options.shard.sharded() ? (", shard " + options.shard.Text() + " has " + std::to_string(mine.size())).c_str() : "",
+              ExperimentIdentity(cases).c_str());
+  std::printf("# case_id\tdataset\titem\tinput\tmethod\tswept values\tstate\n");
+  for (const Case* c : mine) {
+    std::string swept;
+    for (const auto& [k, v] : c->params)
+      if (std::find(c->varying.begin(), c->varying.end(), k) != c->varying.end()) swept += (swept.empty() ? "" : " ") + k + "=" + v;
+    std::printf("%s\t%s\t%s\t%s\t%s\t%s\t%s\n", c->id.c_str(), c->dataset.c_str(), c->item.c_str(), c->input.c_str(),
+                c->method.c_str(), swept.empty() ? "-" : swept.c_str(), done.count(c->id) ? "done" : "todo");
+  }
+  std::printf("%zu cases\n", mine.size());
+  return static_cast<int>(mine.size());
 }
 
 }  // namespace arcs

@@ -4,6 +4,7 @@
 
 #include "framework/context.h"
 #include "framework/experiment/experiment.h"
+#include "framework/experiment/results_dir.h"
 
 #include <string>
 #include <vector>
@@ -34,6 +35,7 @@ struct RunOptions {
   bool retry_failed = false;    // re-run cases recorded as failed
   bool save_outputs = false;    // also when the experiment says save_outputs: write outputs/ (ExecuteCase)
   bool progress = true;         // progress line on stderr
+  Shard shard;                  // the part of the cases this run does (default: all; see ShardCases)
   std::vector<std::string> command_line;  // for provenance
 };
 
@@ -42,9 +44,23 @@ struct RunSummary {
   bool interrupted = false;
 };
 
-// Expands and runs the experiment; writes results.csv, config.resolved.yaml,
-// provenance.yaml, logs/ and the tables into out_dir.
+// Expands and runs the experiment (options.shard's part of it); writes
+// results.csv (results.<I>-of-<N>.csv for a shard), experiment.id,
+// config.resolved.yaml, provenance.yaml (appended), logs/ into out_dir (see
+// results_dir.h). Refuses (Error) another experiment's directory and a shard
+// another runner holds; the table specs are checked against the results'
+// columns before any case runs.
 RunSummary RunExperiment(const Experiment& exp, const Registry& registry, const RunOptions& options);
+
+// The experiment's cases (ExpandCases) after checking its table specs
+// against the columns the results will have (ValidateTables): what a run
+// would do, found wrong before anything runs.
+std::vector<Case> PlanCases(const Experiment& exp, const Registry& registry);
+
+// `arcs run --dry-run`: prints the cases of options.shard (id, dataset, item,
+// input, method, swept values; "done" for those out_dir already has) and
+// their count to stdout; runs nothing, writes nothing. Returns the count.
+int ListCases(const Experiment& exp, const Registry& registry, const RunOptions& options);
 
 // Default results directory for an experiment: results/<name>.
 std::string DefaultOutDir(const Experiment& exp);

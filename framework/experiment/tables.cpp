@@ -115,7 +115,76 @@ void SortKeys(std::vector<std::string>* keys, bool keep_order_for_text) {
   }
 }
 
+// A table or group name is part of a file name: nothing that leaves the directory.
+std::string BadNameReason(const std::string& name) {
+  if (name.empty()) return "is empty";
+  if (name.find("..") != std::string::npos) return "contains '..'";
+  if (name.find_first_of("/\\") != std::string::npos) return "contains a path separator";
+  if (name.front() == '.') return "starts with '.'";
+  for (unsigned char c : name)
+    if (c < 0x20 || c == 0x7f) return "contains a control character";
+  return "";
+}
+
+// Splits "column op value"; false when there is no operator.
+bool SplitCondition(const std::string& condition, std::string* col) {
+  static const char* ops[] = {"==", "!=", "<=", ">=", "<", ">"};
+  for (const char* op : ops) {
+    const size_t pos = condition.find(op);
+    if (pos == std::string::npos) continue;
+    *col = Trim(condition.substr(0, pos));
+    return true;
+  }
+  return false;
+}
+
 }  // namespace
+
+void ValidateTables(const std::vector<TableSpec>& specs, const std::vector<std::string>& columns,
+                    const std::string& file) {
+  CsvTable t;
+  t.header = columns;
+  for (size_t i = 0; i < specs.size(); ++i) {
+    const TableSpec& spec = specs[i];
+    const std::string fld = file + ": tables[" + std::to_string(i) + "]";
+    auto fail = [&](const std::string& field, const std::string& msg) { throw Error(fld + field + ": " + msg); };
+    if (const std::string why = BadNameReason(spec.name); !why.empty())
+      fail(".name", "'" + spec.name + "' " + why + "; a table name must be a plain file name (its files go to <results>/tables/)");
+    auto need = [&](const std::string& field, const std::string& name, const std::string& what) {
+      int c = -1;
+      try {
+        c = FindColumn(t, name);
+      } catch (const Error& e) {
+        fail(field, e.what());
+      }
+      if (c < 0) {
+        std::string known;
+        for (const auto& h : columns)
+          if (h.find('.') != std::string::npos || h.rfind("ref_", 0) == 0 || h == "method" || h == "item" ||
+              h == "input" || h == "dataset")
+            known += (known.empty() ? "" : ", ") + h;
+        fail(field, what + " '" + name + "' is not a column of this experiment's results (known: " + known +
+                        ", and the metrics' outputs)");
+      }
+    };
+    need(".rows", spec.rows, "rows column");
+    need(".columns", spec.columns, "columns column");
+    // Metrics are not checked: methods write metrics of their own (timings,
+    // counts) that no schema lists; one no case wrote is a warning in BuildTables.
+    for (size_t g = 0; g < spec.groups.size(); ++g) {
+      const std::string gf = ".groups[" + std::to_string(g) + "]";
+      if (const std::string why = BadNameReason(spec.groups[g].name); !why.empty())
+        fail(gf + ".name", "'" + spec.groups[g].name + "' " + why + "; a group name is part of a file name");
+      for (size_t w = 0; w < spec.groups[g].where.size(); ++w) {
+        const std::string& cond = spec.groups[g].where[w];
+        std::string col;
+        if (!SplitCondition(cond, &col))
+          fail(gf + ".where", "'" + cond + "': expected 'column OP value' with OP one of == != < <= > >=");
+        need(gf + ".where", col, "condition '" + cond + "': column");
+      }
+    }
+  }
+}
 
 bool EvalCondition(const CsvTable& t, size_t r, const std::string& condition) {
   static const char* ops[] = {"==", "!=", "<=", ">=", "<", ">"};
@@ -292,6 +361,8 @@ std::string WriteTables(const std::vector<BuiltTable>& tables, const std::string
   fs::create_directories(dir);
   std::string all;
   for (const auto& t : tables) {
+    if (const std::string why = BadNameReason(t.name); !why.empty())
+      throw Error("table '" + t.name + "': the name " + why + "; tables are written inside " + dir + " only");
     const std::string md = Markdown(t);
     all += md;
     std::ofstream(fs::path(dir) / (t.name + ".md")) << md;

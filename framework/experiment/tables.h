@@ -27,6 +27,13 @@ bool EvalCondition(const CsvTable& t, size_t r, const std::string& condition);
 std::vector<BuiltTable> BuildTables(const std::vector<TableSpec>& specs, const CsvTable& results,
                                     std::vector<std::string>* warnings);
 
+// Checks table specs against the columns the results will have, before any
+// case runs: `rows`, `columns` and every group's `where` must name a column (a unique suffix is enough), and table and group names must be
+// plain file names (no '/', no '..': the files stay inside the results
+// directory). Throws Error "FILE: tables[i].field: ..." naming the mistake.
+void ValidateTables(const std::vector<TableSpec>& specs, const std::vector<std::string>& columns,
+                    const std::string& file);
+
 // Writes <dir>/<name>.md, .csv, .tex for each table, and <dir>/tables.md
 // with all of them. Returns the Markdown of all tables.
 std::string WriteTables(const std::vector<BuiltTable>& tables, const std::string& dir);

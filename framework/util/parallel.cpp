@@ -1,5 +1,7 @@
 #include "framework/util/parallel.h"
 
+#include "framework/util/cpus.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
@@ -32,7 +34,7 @@ struct ThreadLimit::Impl {
 };
 
 ThreadLimit::ThreadLimit(int threads) {
-  if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (threads <= 0) threads = AvailableCpus().cpus;  // the CPU allocation (affinity, Slurm), not the machine
   impl_ = std::make_unique<Impl>(threads);
 }
 
