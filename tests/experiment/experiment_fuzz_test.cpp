@@ -133,7 +133,10 @@ TEST_F(YamlStructure, AliasBombsAndDeepNestingAreRefused) {
   for (int i = 1; i <= 8; ++i)
     bomb += "l" + std::to_string(i) + ": &l" + std::to_string(i) + " [" + [&] {
       std::string r;
-      for (int k = 0; k < 10; ++k) r += (k ? ", *l" : "*l") + std::to_string(i - 1);
+      for (int k = 0; k < 10; ++k) {
+        r += k ? ", *l" : "*l";
+        r += std::to_string(i - 1);
+      }
       return r;
     }() + "]\n";
   EXPECT_NE(Error(bomb).find("aliases are expanded"), std::string::npos);
