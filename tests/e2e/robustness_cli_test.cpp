@@ -45,7 +45,11 @@ std::string FlipFaces(const std::string& obj, bool every_other) {
 
 class RobustnessCli : public ::testing::Test {
  protected:
-  void SetUp() override { dir_ = testing::TempDir("robustness_cli"); }
+  // One directory per test: ctest runs the tests of this file in parallel.
+  void SetUp() override {
+    dir_ = testing::TempDir(std::string("robustness_cli_") +
+                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
   fs::path dir_;
 };
 

@@ -99,7 +99,8 @@ class YamlStructure : public ::testing::Test {
  protected:
   void SetUp() override { RegisterBuiltinStages(registry_); }
   std::string Error(const std::string& yaml, const std::vector<std::string>& sets = {}) {
-    const auto dir = testing::TempDir("yaml_structure");
+    const auto dir = testing::TempDir(std::string("yaml_structure_") +
+                                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
     const std::string path = (dir / "x.yaml").string();
     std::ofstream(path) << yaml;
     try {
