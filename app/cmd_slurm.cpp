@@ -51,6 +51,7 @@ options:
   --plugin FILE       plugin, passed to every task
   --script FILE       where the array script goes (default DIR/slurm/<name>.sbatch);
                       the table job's script is written beside it (<stem>_tables.sbatch)
+  --retry-failed      tasks re-run the cases recorded as failed (as `arcs run --retry-failed`)
   --submit            also submit: sbatch the array, then the table job after it
 
 Resuming: every task skips the cases DIR already has, so after a timeout or a
@@ -121,7 +122,7 @@ int CmdSlurm(Registry& registry, int argc, char** argv) {
       cli::Parse(argc, argv, 2,
                  {"--array", "--out", "--partition", "--time", "--cpus", "--mem", "--account", "--sbatch", "--set",
                   "--plugin", "--script"},
-                 {"--submit"});
+                 {"--submit", "--retry-failed"});
   if (a.positional.size() != 1) SlurmUsage("slurm needs exactly one experiment file");
   if (!a.Has("--array")) SlurmUsage("slurm needs --array N (the number of array tasks)");
   int tasks = cli::ParseInt(a.Get("--array"), "--array");
@@ -153,6 +154,7 @@ int CmdSlurm(Registry& registry, int argc, char** argv) {
   std::string passed;  // options every task gets
   for (const auto& s : a.All("--set")) passed += " --set " + Quote(s);
   for (const auto& p : a.All("--plugin")) passed += " --plugin " + Quote(fs::absolute(p).string());
+  if (a.Has("--retry-failed")) passed += " --retry-failed";
   auto header = [&](const std::string& job, bool array) {
     std::string h = "#!/bin/bash\n";
     h += "# Written by `arcs slurm` on " + Now() + ": experiment '" + exp.name + "' (" + exp_file + "), " +

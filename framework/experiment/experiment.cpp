@@ -166,7 +166,7 @@ StageSpec DecodeStageValue(const std::string& file, const YAML::Node& node, cons
     CheckKeys(file, node, field, {"stage", "params"});
     if (!node["stage"]) Fail(file, node, field, "missing key 'stage'");
     out.stage = GetString(file, node["stage"], field + ".stage");
-    params = node["params"];
+    if (node["params"]) params = node["params"];  // assigning a missing key's node throws InvalidNode
   } else {
     Fail(file, node, field, "must be a stage name or {stage: NAME, params: {...}}");
   }
@@ -213,7 +213,7 @@ StageEntry DecodeStageEntry(const std::string& file, const YAML::Node& node, con
     CheckKeys(file, node, field, {"stage", "params"});
     if (!node["stage"]) Fail(file, node, field, "missing key 'stage'");
     e.stage = GetString(file, node["stage"], field + ".stage");
-    params = node["params"];
+    if (node["params"]) params = node["params"];  // assigning a missing key's node throws InvalidNode
   } else {
     Fail(file, node, field, "must be a stage name or {stage: NAME, params: {...}}");
   }
@@ -390,16 +390,22 @@ void ApplyOverride(YAML::Node& doc, const std::string& assignment) {
     const std::string& key = parts[i];
     const bool last = i + 1 == parts.size();
     if (cur.IsSequence()) {
+      // A default-constructed YAML::Node is a defined null node (`!found`
+      // is false), so "found" is its own flag: else a typo in a list
+      // element's name was written into a detached node and silently lost.
       YAML::Node found;
+      bool have = false;
       std::int64_t idx;
       if (ParseInt64(key, &idx) && idx >= 0 && static_cast<size_t>(idx) < cur.size()) {
         found = cur[static_cast<size_t>(idx)];
+        have = true;
       } else {
         for (size_t j = 0; j < cur.size(); ++j) {
           YAML::Node el = cur[j];
-          if (el.IsMap() && ((el["name"] && el["name"].as<std::string>() == key) ||
-                             (el["stage"] && el["stage"].as<std::string>() == key))) {
+          if (el.IsMap() && ((el["name"] && el["name"].IsScalar() && el["name"].Scalar() == key) ||
+                             (el["stage"] && el["stage"].IsScalar() && el["stage"].Scalar() == key))) {
             found = el;
+            have = true;
             break;
           }
           if (el.IsScalar() && el.as<std::string>() == key) {  // a bare stage name
@@ -407,12 +413,13 @@ void ApplyOverride(YAML::Node& doc, const std::string& assignment) {
             m["stage"] = key;
             cur[j] = m;
             found = cur[j];
+            have = true;
             break;
           }
         }
         // Inside a method, "MC.marching_cubes" also looks into its pipeline.
       }
-      if (!found) throw ExperimentError("--set " + assignment + ": no element named '" + key + "' in '" +
+      if (!have) throw ExperimentError("--set " + assignment + ": no element named '" + key + "' in '" +
                                         path.substr(0, path.find(key)) + "'");
       if (last) throw ExperimentError("--set " + assignment + ": cannot replace a whole list element");
       cur.reset(found);
@@ -563,8 +570,26 @@ std::vector<TableSpec> LoadTableSpecs(const std::string& path) {
   return specs;
 }
 
+namespace {
+Experiment LoadExperimentImpl(const std::string& path, const std::vector<std::string>& overrides,
+                              Registry& registry);
+}  // namespace
+
+// Any yaml-cpp exception the decoder did not turn into a located error (a
+// node used as the wrong kind) still ends as an ExperimentError naming the file.
 Experiment LoadExperiment(const std::string& path, const std::vector<std::string>& overrides,
                           Registry& registry) {
+  try {
+    return LoadExperimentImpl(path, overrides, registry);
+  } catch (const YAML::Exception& e) {
+    throw ExperimentError(path + (e.mark.line >= 0 ? ":" + std::to_string(e.mark.line + 1) : std::string()) +
+                          ": " + e.msg);
+  }
+}
+
+namespace {
+Experiment LoadExperimentImpl(const std::string& path, const std::vector<std::string>& overrides,
+                              Registry& registry) {
   Experiment exp;
   exp.file = path;
   if (!fs::is_regular_file(path)) throw ExperimentError(path + ": experiment file not found");
@@ -729,6 +754,7 @@ Experiment LoadExperiment(const std::string& path, const std::vector<std::string
   exp.resolved = YAML::Clone(doc);
   return exp;
 }
+}  // namespace
 
 namespace {
 

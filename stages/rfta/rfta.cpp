@@ -44,7 +44,8 @@ void RegisterRfta(Registry& r) {
               "(off: the paper; drop / repair: see fine_tune)")
       .Choice("on_sign_conflict", "warn", {"warn", "error", "ignore"},
               "positive and negative spheres that overlap (not an SDF; noisy SDFs, Fig. 23, have some): "
-              "warn and go on, fail the case, or say nothing");
+              "warn and go on (refused when more than half of the outside spheres conflict), fail the case, "
+              "or say nothing and go on");
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
     if (!d.registry) throw Error("rfta: needs the case's registry");
     const Registry& reg = *d.registry;
@@ -76,6 +77,12 @@ void RegisterRfta(Registry& r) {
                                 std::to_string(depth * spheres.frame.scale) +
                                 "): the samples are not a consistent SDF";
         if (p.GetString("on_sign_conflict") == "error") throw Error(msg);
+        // Noisy SDFs have some conflicts; when most outside spheres conflict
+        // the samples are no SDF at all (e.g. mesh distances signed by an
+        // open-mesh shell) and RFTA would spend minutes on nothing.
+        if (2 * conflicts > spheres.positive.Size())
+          throw Error(msg + "; more than half of the outside spheres conflict: refused "
+                            "(on_sign_conflict: ignore goes on anyway)");
         ctx.Warn(msg + "; going on (set on_sign_conflict: error to refuse such input)");
       }
     }

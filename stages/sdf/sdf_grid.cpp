@@ -10,7 +10,8 @@ void RegisterSdfGrid(Registry& r) {
   StageInfo s;
   s.name = "sdf_grid";
   s.role = Role::kSdfSampler;
-  s.doc = "SDF at the (n+1)^3 nodes of linspace(lo,hi,n+1)^3: exact distance, sign by winding number (paper §5)";
+  s.doc = "SDF at the (n+1)^3 nodes of linspace(lo,hi,n+1)^3: exact distance, sign by the voxelizer's winding-number "
+          "rule (paper §5; orientation-independent, docs/robustness.md)";
   s.params.Int("n", 20, "grid cells per axis (the paper's 'grid' n: 6, 10, 20, ..., 100)", 1, 2048)
       .Double("lo", -1.0, "lower grid bound on every axis (paper: -1)")
       .Double("hi", 1.0, "upper grid bound on every axis (paper: 1)")

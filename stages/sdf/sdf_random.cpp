@@ -9,7 +9,7 @@ void RegisterSdfRandom(Registry& r) {
   StageInfo s;
   s.name = "sdf_random";
   s.role = Role::kSdfSampler;
-  s.doc = "SDF at uniformly random points of the box [lo,hi]^3 (seeded), sign by winding number";
+  s.doc = "SDF at uniformly random points of the box [lo,hi]^3 (seeded), sign by the voxelizer's winding-number rule";
   s.params.Int("count", 10000, "number of samples", 1, 1000000000)
       .Double("lo", -1.0, "lower box bound on every axis")
       .Double("hi", 1.0, "upper box bound on every axis")

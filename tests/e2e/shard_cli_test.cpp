@@ -102,7 +102,7 @@ TEST(ShardCliTest, DryRunListsTheQuickstartAndItsShardsPartitionIt) {
 
 TEST(ShardCliTest, ConcurrentRunnersOnOneDirectory) {
   const auto dir = testing::TempDir("shards_concurrent");
-  testing::WriteFile(dir / "e.yaml", Yaml("[0.4, 0.41, 0.42, 0.43, 0.44, 0.45, 0.46, 0.47]"));
+  testing::WriteFile(dir / "e.yaml", Yaml("[0.8, 0.81, 0.82, 0.83, 0.84, 0.85, 0.86, 0.87]"));
   const std::string base = Arcs() + " run " + (dir / "e.yaml").string() + " --out " + (dir / "out").string();
   const pid_t a = Spawn(base + " --shard 0/2");
   // Wait until shard 0 holds its lock (its first row or its lock file's note).
@@ -150,13 +150,29 @@ TEST(ShardCliTest, KillNineAtAnyMomentThenTheSameCommandKeepsEveryFinishedCaseOn
   const std::string cmd =
       Arcs() + " run " + (dir / "e.yaml").string() + " --jobs 2 --out " + (dir / "out").string();
   std::set<std::string> finished;
-  for (int delay_ms : {30, 150, 400, 650, 900}) {
+  // Kill moments by progress, not by the clock (the machine may be busy):
+  // at once, once the runner holds its lock, and after 1, 2 and 3 more rows.
+  const fs::path lock = dir / "out" / "locks" / "results.csv.lock";
+  for (int more : {-2, -1, 1, 2, 3}) {
+    const size_t before = RowsPerCase(dir / "out").size();
     const pid_t pid = Spawn(cmd);
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
-    kill(pid, SIGKILL);  // the runner only: its workers die with it (PR_SET_PDEATHSIG)
-    Wait(pid);
+    bool exited = false;
+    for (int i = 0; more > -2 && i < 6000; ++i) {
+      if (more == -1 ? fs::exists(lock) && fs::file_size(lock) > 0
+                     : RowsPerCase(dir / "out").size() >= before + static_cast<size_t>(more))
+        break;
+      if (waitpid(pid, nullptr, WNOHANG) == pid) {  // finished before the moment came
+        exited = true;
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (!exited) {
+      kill(pid, SIGKILL);  // the runner only: its workers die with it (PR_SET_PDEATHSIG)
+      waitpid(pid, nullptr, 0);
+    }
     for (const auto& [id, n] : RowsPerCase(dir / "out")) {
-      EXPECT_EQ(n, 1) << id << " after a kill at " << delay_ms << " ms";
+      EXPECT_EQ(n, 1) << id << " after a kill (moment " << more << ")";
       finished.insert(id);
     }
   }

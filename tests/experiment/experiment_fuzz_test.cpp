@@ -99,7 +99,8 @@ class YamlStructure : public ::testing::Test {
  protected:
   void SetUp() override { RegisterBuiltinStages(registry_); }
   std::string Error(const std::string& yaml, const std::vector<std::string>& sets = {}) {
-    const auto dir = testing::TempDir("yaml_structure");
+    const auto dir = testing::TempDir(std::string("yaml_structure_") +
+                                      ::testing::UnitTest::GetInstance()->current_test_info()->name());
     const std::string path = (dir / "x.yaml").string();
     std::ofstream(path) << yaml;
     try {
@@ -133,7 +134,10 @@ TEST_F(YamlStructure, AliasBombsAndDeepNestingAreRefused) {
   for (int i = 1; i <= 8; ++i)
     bomb += "l" + std::to_string(i) + ": &l" + std::to_string(i) + " [" + [&] {
       std::string r;
-      for (int k = 0; k < 10; ++k) r += (k ? ", *l" : "*l") + std::to_string(i - 1);
+      for (int k = 0; k < 10; ++k) {
+        r += k ? ", *l" : "*l";
+        r += std::to_string(i - 1);
+      }
       return r;
     }() + "]\n";
   EXPECT_NE(Error(bomb).find("aliases are expanded"), std::string::npos);
