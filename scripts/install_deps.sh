@@ -12,10 +12,13 @@
 #   libembree-dev              ray-parity voxelization baseline, bench/spatial_bench comparison
 #   libpcl-dev                 screened Poisson reconstruction (pcl::Poisson; optional, ARCS_WITH_PCL)
 #   libopen3d-dev              ball pivoting (Open3D's CreateFromPointCloudBallPivoting; optional, ARCS_WITH_OPEN3D)
+#   zlib1g-dev                 .npz archives (deflated members, CRC-32; framework/io/npz.cpp)
+#   pybind11-dev python3-dev python3-numpy   the Python module `arcs` (python/; optional, ARCS_BUILD_PYTHON)
 set -euo pipefail
 
 PACKAGES=(cmake g++ make pkg-config ccache libeigen3-dev libyaml-cpp-dev libtbb-dev libnanoflann-dev
-          libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev libopen3d-dev)
+          libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev libopen3d-dev
+          zlib1g-dev pybind11-dev python3-dev python3-numpy)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
