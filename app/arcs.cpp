@@ -7,6 +7,7 @@
 #include "framework/experiment/version.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
+#include "framework/geometry/transform_file.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/points_io.h"
 #include "framework/planar/curves.h"

@@ -14,6 +14,7 @@
 #include "framework/eval/metrics.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
+#include "framework/geometry/transform_file.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/sdf_io.h"
 #include "framework/spatial/topology.h"

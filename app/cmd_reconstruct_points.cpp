@@ -13,6 +13,7 @@
 #include "app/commands.h"
 #include "framework/error.h"
 #include "framework/geometry/normalize.h"
+#include "framework/geometry/transform_file.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/npy.h"
 #include "framework/io/points_io.h"

@@ -34,12 +34,5 @@ GlobalOptions ExtractGlobalOptions(int* argc, char** argv);
 // behind the command); false when CMD has no entry (it prints its own).
 bool PrintCommandHelp(const Registry& registry, const std::string& cmd, int argc, char** argv);
 
-// The frame of a saved output (app/frame.cpp): the similarity that maps the
-// input's frame to the frame `output` is written in, as the JSON sidecar
-// output + ".transform.json" ({"scale", "translation", "rotation", ...}:
-// y = scale * rotation * (x + translation)). Read returns false without one.
-struct Similarity;
-void WriteTransformSidecar(const std::string& output, const Similarity& to_output_frame, const std::string& note);
-bool ReadTransformSidecar(const std::string& output, Similarity* to_output_frame);
 
 }  // namespace arcs

@@ -2,7 +2,9 @@
 // subcommand, global options anywhere, --version, point clouds through
 // `arcs reconstruct`, formats by extension (.npy .npz text) round-tripping,
 // `arcs eval` in one frame with --json, outputs in the input's frame.
+#include "framework/experiment/csv.h"
 #include "framework/geometry/builtin_shapes.h"
+#include "framework/geometry/transform_file.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/npy.h"
 #include "framework/io/sdf_io.h"
@@ -210,6 +212,28 @@ TEST(CliTool, SdfReconstructVoxelizeRoundTripEveryFormat) {
   const CmdResult vbad = RunCmd(Arcs() + " voxelize '" + mesh + "' '" + (dir / "v.png").string() + "'");
   EXPECT_EQ(vbad.code, 1);
   EXPECT_NE(vbad.output.find("unsupported volume output extension '.png'"), std::string::npos) << vbad.output;
+}
+
+TEST(CliTool, SavedOutputsRecordTheirFrame) {
+  const auto dir = TempDir("cli_saved_frame");
+  Mesh sphere = MakeBuiltinShape("sphere");
+  sphere.V = (sphere.V * 4.0).rowwise() + Eigen::RowVector3d(5, 0, 0);  // radius 2 at (5, 0, 0)
+  WriteMesh((dir / "big.obj").string(), sphere);
+  WriteFile(dir / "e.yaml",
+            "name: frame\ndatasets: [{name: d, files: [big.obj]}]\n"
+            "inputs:\n  - name: grid\n    pipeline:\n      - stage: sdf_grid\n        params: {n: 12}\n"
+            "methods:\n  - name: MC\n    pipeline: [marching_cubes]\nmetrics: [mesh_size]\n");
+  const CmdResult r = RunCmd(Arcs() + " run '" + (dir / "e.yaml").string() + "' --save-outputs --out '" +
+                             (dir / "out").string() + "'");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const CsvTable t = ReadCsv((dir / "out" / "results.csv").string());
+  const std::string out = (dir / "out" / "outputs" / t.Cell(0, "output_file")).string();
+  Similarity s;
+  ASSERT_TRUE(ReadTransformSidecar(out, &s));
+  EXPECT_NEAR(s.scale, 0.25, 0.01);  // longest side 4 -> 1
+  // The recorded transform takes the saved (normalised) mesh back onto the dataset file's sphere.
+  const Mesh back = ApplyInverseSimilarity(s, ReadMesh(out));
+  EXPECT_NEAR(MeanDistanceTo(back, Vec3(5, 0, 0)), 2.0, 0.05 * 2.0);
 }
 
 TEST(CliTool, ScansFromSharedData) {

@@ -1,8 +1,6 @@
-// Transform sidecars of saved outputs: OUT.transform.json records the
-// similarity from the input's frame to OUT's frame (see app/commands.h).
-#include "app/commands.h"
+#include "framework/geometry/transform_file.h"
+
 #include "framework/error.h"
-#include "framework/geometry/normalize.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -10,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace arcs {
 namespace {
