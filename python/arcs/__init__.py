@@ -81,11 +81,14 @@ def _with_schema(stage, fixed_doc):
     def wrap(fn):
         sig = _inspect.signature(fn)
         params = [p for p in sig.parameters.values() if p.kind != p.VAR_KEYWORD]
+        var_kw = [p for p in sig.parameters.values() if p.kind == p.VAR_KEYWORD]
         taken = {p.name for p in params}
         for p in _SCHEMAS[stage]["params"]:
             if p["name"] not in taken:
                 params.append(_inspect.Parameter(p["name"], _inspect.Parameter.KEYWORD_ONLY, default=p["default"]))
-        fn.__signature__ = sig.replace(parameters=params)
+        # reconstruct takes any method's parameters: its **params stays visible.
+        keep_var_kw = var_kw and fn.__name__ == "reconstruct"
+        fn.__signature__ = sig.replace(parameters=params + (var_kw if keep_var_kw else []))
         fn.__doc__ = fixed_doc.strip("\n") + "\n\n" + _params_doc(stage)
         return fn
     return wrap
