@@ -8,6 +8,7 @@
 #include "framework/experiment/version.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
+#include "framework/geometry/transform_file.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/points_io.h"
 #include "framework/planar/curves.h"
@@ -31,6 +32,7 @@
 #include <unistd.h>
 #include <filesystem>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -60,24 +62,28 @@ commands:
   list                       every registered stage, by role
   describe STAGE             a stage's parameters with defaults, ranges and docs
   sdf MESH OUT [--n N] [--random COUNT] [--no-normalize] [--rotate SEED] [--curve] [--threads T]
-                             sample a mesh's SDF (paper protocol) to OUT (.npy grid or .txt);
+                             sample a mesh's SDF (paper protocol) to OUT (.npy, .npz, .txt);
                              --curve: MESH is a 2D polyline file or built-in curve name
-  eval MESH REFERENCE [--samples N] [--sdf FILE] [--no-normalize]
-                             the paper's metrics of MESH against REFERENCE
-  reconstruct SDF OUT [--method STAGE] [--param name=value]... [--points PTS.ply]
-                             SDF samples (grid .npy, (N,d+1) .npy, text) -> mesh OUT;
-                             method: rfta (default), marching_cubes, or any sdf_to_mesh stage;
-                             --points also writes the method's oriented points (RFTA's tangency points)
+  eval MESH REFERENCE [--samples N] [--sdf FILE] [--frame reference|each|none] [--json]
+                             the paper's metrics of MESH against REFERENCE, in one frame
+  reconstruct INPUT OUT [--method STAGE] [--param name=value]... [--points PTS.ply]
+                             SDF samples (grid .npy, (N,d+1) .npy, .npz, text) -> mesh OUT with
+                             an sdf_to_mesh stage (rfta (default), marching_cubes, ...), or
+                             points (.ply .xyz .pcd .npy) with a reconstructor (screened_poisson
+                             (default for point files), graph_voronoi, ball_pivoting, ...)
   shape NAME OUT             write a built-in shape (sphere, torus, knot, two_tori), or a
                              built-in 2D curve as a polyline (.obj/.txt/.svg; `arcs shape list`)
   voxelize MESH OUT.npy [options]
                              winding-number occupancy grid of MESH (`arcs voxelize --help`)
   morph SOURCE TARGET OUT [options]
                              deform SOURCE mesh to match TARGET's occupancy (`arcs morph --help`)
-  version                    version, build and plugin API
+  version                    version, build and plugin API (also: arcs --version)
 
-global options:
+`arcs COMMAND --help` lists a command's options (for reconstruct, with --method M: M's parameters).
+
+global options (anywhere on the line):
   --plugin FILE              load a plugin (also: $ARCS_PLUGIN_PATH, or `plugins:` in YAML)
+  --threads T                worker threads (default: all cores)
 )";
 
 void LoadPlugins(Registry& registry, const Args& args) {
@@ -165,7 +171,7 @@ int CmdTable(const Args& args) {
   return WriteTablesFor(specs, dir, true);
 }
 
-Mesh LoadMeshNormalized(const std::string& path, bool normalize, int rotate_seed) {
+Mesh LoadMeshNormalized(const std::string& path, bool normalize, int rotate_seed, Similarity* applied = nullptr) {
   Mesh m = path.rfind("shape:", 0) == 0 ? MakeBuiltinShape(path.substr(6)) : ReadMeshForCommand(path);
   if (normalize) {
     NormalizeOptions no;
@@ -173,7 +179,8 @@ Mesh LoadMeshNormalized(const std::string& path, bool normalize, int rotate_seed
       no.random_rotation = true;
       no.rotation_seed = static_cast<std::uint64_t>(rotate_seed);
     }
-    NormalizeForCommand(&m, no, path);
+    const Similarity t = NormalizeForCommand(&m, no, path);
+    if (applied) *applied = t;
   } else {
     CheckCoordinateRange(m, path);
   }
@@ -199,17 +206,13 @@ int CmdSdf(const Args& args) {
       s2 = SampleSdfGrid2D(curve, o, ctx);
     }
     const std::string out = args.positional[1];
-    if (fs::path(out).extension() == ".npy") {
-      if (!s2.grid) throw Error("a .npy output holds a grid; use a .txt output for --random samples");
-      WriteSdfGrid(out, s2);
-    } else {
-      WriteSdfText(out, s2);
-    }
+    WriteSdf(out, s2);  // by extension: .npy, .npz, text
     std::fprintf(stderr, "wrote %lld 2D SDF samples to %s\n", static_cast<long long>(s2.Size()), out.c_str());
     return 0;
   }
+  Similarity to_frame;
   const Mesh m = LoadMeshNormalized(args.positional[0], !args.Has("--no-normalize"),
-                                    args.Has("--rotate") ? ParseInt(args.Get("--rotate"), "--rotate", 0, INT_MAX) : -1);
+                                    args.Has("--rotate") ? ParseInt(args.Get("--rotate"), "--rotate", 0, INT_MAX) : -1, &to_frame);
   Context ctx(1);
   ctx.set_log([](LogLevel l, const std::string& msg) {
     if (l >= LogLevel::kWarning) std::fprintf(stderr, "arcs: warning: %s\n", msg.c_str());
@@ -228,31 +231,11 @@ int CmdSdf(const Args& args) {
                sign.rule.c_str(), static_cast<long long>(sign.unbalanced_edges), static_cast<long long>(sign.inside),
                static_cast<long long>(s.Size()), static_cast<long long>(sign.shell_samples));
   const std::string out = args.positional[1];
-  if (fs::path(out).extension() == ".npy") {
-    if (!s.grid) throw Error("a .npy output holds a grid; use a .txt output for --random samples");
-    WriteSdfGrid(out, s);
-  } else {
-    WriteSdfText(out, s);
-  }
+  WriteSdf(out, s);  // by extension: .npy (grid or (N, 4)), .npz (U, S, bounds), text
+  if (!args.Has("--no-normalize"))
+    WriteTransformSidecar(out, to_frame, "SDF samples of " + fs::path(args.positional[0]).filename().string() +
+                                             " in its normalised frame (arcs sdf)");
   std::fprintf(stderr, "wrote %lld SDF samples to %s\n", static_cast<long long>(s.Size()), out.c_str());
-  return 0;
-}
-
-int CmdEval(const Args& args) {
-  if (args.positional.size() != 2) Usage("eval needs MESH and REFERENCE");
-  const bool norm = !args.Has("--no-normalize");
-  const Mesh ref = LoadMeshNormalized(args.positional[1], norm, -1);
-  const Mesh m = ReadMeshForCommand(args.positional[0]);
-  CheckCoordinateRange(m, args.positional[0]);  // used in its own frame
-  const std::int64_t n = args.Has("--samples") ? ParseInt64(args.Get("--samples"), "--samples", 1, 1000000000) : 1000000;
-  std::printf("chamfer            %.6g\n", ChamferPaper(m, ref, n, 1));
-  std::printf("hausdorff          %.6g\n", HausdorffPaper(m, ref));
-  std::printf("chamfer_p2s        %.6g\n", ChamferPointToSurface(m, ref, n, 1));
-  std::printf("hausdorff_sampled  %.6g\n", HausdorffSampled(m, ref, n, 1));
-  if (args.Has("--sdf")) std::printf("e_sdf              %.6g\n", EnergySdf(ReadSdf(args.Get("--sdf")), m));
-  const Topology t = ComputeTopology(m);
-  std::printf("closed %d  manifold %d  genus %d  components %d  vertices %d  faces %d\n", t.closed, t.manifold,
-              t.genus, t.components, t.vertices, t.faces);
   return 0;
 }
 
@@ -284,8 +267,10 @@ ParamValue DecodeParam(const ParamSpec& spec, const std::string& text) {
   return v;
 }
 
-int CmdReconstruct(Registry& registry, const Args& args) {
+int CmdReconstruct(Registry& registry, const Args& args, int argc, char** argv) {
   if (args.positional.size() != 2) Usage("reconstruct needs SDF (input samples) and OUT (mesh file)");
+  if (IsPointReconstruction(registry, args.positional[0], args.Get("--method")))
+    return CmdReconstructPoints(registry, argc, argv);
   const std::string method = args.Get("--method", "rfta");
   const StageInfo& info = registry.Get(method);
   if (info.role != Role::kSdfToMesh)
@@ -304,6 +289,13 @@ int CmdReconstruct(Registry& registry, const Args& args) {
     given.Set(name, DecodeParam(*spec, kv.substr(eq + 1)));
   }
   const ParamMap params = registry.Resolve(method, given);
+  {  // formats by extension, before any work
+    const std::string e = fs::path(args.positional[1]).extension().string();
+    const bool curve_ext = e == ".txt" || e == ".svg" || e == ".poly" || e == ".obj";
+    if (!curve_ext && SupportedMeshExtensions().find(e.empty() ? "?" : e) == std::string::npos)
+      throw InputError(args.positional[1], 0, "unsupported output extension '" + e + "' (meshes: " +
+                                                  SupportedMeshExtensions() + "; 2D curves: .obj .txt .poly .svg)");
+  }
   CaseData data;
   data.registry = &registry;
   data.samples = ReadSdf(args.positional[0]);
@@ -329,7 +321,19 @@ int CmdReconstruct(Registry& registry, const Args& args) {
     return 0;
   }
   if (!data.output || data.output->Empty()) throw Error(method + " produced an empty mesh");
+  // Samples with a transform sidecar (from `arcs sdf`) are in a normalised
+  // frame: the mesh goes back to the input mesh's frame unless --frame normalized.
+  Similarity to_frame;
+  const bool framed = ReadTransformSidecar(args.positional[0], &to_frame);
+  const std::string frame = args.Get("--frame", "input");
+  if (frame != "input" && frame != "normalized") Usage("--frame must be input or normalized, got '" + frame + "'");
+  if (framed && frame == "input") {
+    *data.output = ApplyInverseSimilarity(to_frame, *data.output);
+    if (data.points) ApplySimilarity(to_frame.Inverse(), &data.points->P);
+  }
   WriteMesh(args.positional[1], *data.output);
+  if (framed && frame == "normalized")
+    WriteTransformSidecar(args.positional[1], to_frame, "mesh in the normalised frame of " + args.positional[0]);
   if (args.Has("--points")) {
     if (!data.points) throw Error(method + " produced no oriented points to write to " + args.Get("--points"));
     WritePointCloud(args.Get("--points"), *data.points);
@@ -369,6 +373,11 @@ int main(int argc, char** argv) {
     setenv("ARCS_NO_REEXEC", "1", 1);
     execv("/proc/self/exe", argv);  // returns only on failure: carry on as we are
   }
+  const GlobalOptions global = ExtractGlobalOptions(&argc, argv);  // --plugin, --threads anywhere
+  if (global.version) {
+    std::printf("arcs 0.1.0 (git %s, %s build, plugin API %d)\n", GitRevision(), BuildType(), ARCS_PLUGIN_API_VERSION);
+    return 0;
+  }
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
     std::printf("%s", kUsage);
     return argc < 2 ? 2 : 0;
@@ -377,6 +386,23 @@ int main(int argc, char** argv) {
   try {
     Registry registry;
     RegisterBuiltinStages(registry);
+    for (const auto& p : global.plugins) LoadPlugin(registry, p);
+    if (global.help && PrintCommandHelp(registry, cmd, argc, argv)) return 0;
+    // --threads: a process-wide limit, and passed on to the commands that take it.
+    std::unique_ptr<ThreadLimit> thread_limit;
+    std::vector<char*> with_threads(argv, argv + argc);
+    std::string threads_text = std::to_string(global.threads);
+    if (global.has_threads) {
+      thread_limit = std::make_unique<ThreadLimit>(global.threads);
+      if (cmd == "run" || cmd == "reconstruct" || cmd == "voxelize" || cmd == "morph") {
+        static std::string flag = "--threads";
+        with_threads.push_back(flag.data());
+        with_threads.push_back(threads_text.data());
+        with_threads.push_back(nullptr);
+        argv = with_threads.data();
+        argc += 2;
+      }
+    }
     if (cmd == "list" || cmd == "describe") {
       const Args a = Parse(argc, argv, 2, {"--plugin"}, {});
       LoadPlugins(registry, a);
@@ -393,11 +419,14 @@ int main(int argc, char** argv) {
     if (cmd == "table") return CmdTable(Parse(argc, argv, 2, {"--tables"}, {}));
     if (cmd == "sdf")
       return CmdSdf(Parse(argc, argv, 2, {"--n", "--random", "--rotate", "--threads"}, {"--no-normalize", "--curve"}));
-    if (cmd == "eval") return CmdEval(Parse(argc, argv, 2, {"--samples", "--sdf"}, {"--no-normalize"}));
+    if (cmd == "eval") return CmdEval(argc, argv);
     if (cmd == "reconstruct") {
-      const Args a = Parse(argc, argv, 2, {"--plugin", "--method", "--param", "--seed", "--threads", "--points"}, {});
+      const Args a = Parse(argc, argv, 2,
+                           {"--plugin", "--method", "--param", "--seed", "--threads", "--points", "--frame",
+                            "--normals-param"},
+                           {"--estimate-normals"});
       LoadPlugins(registry, a);
-      return CmdReconstruct(registry, a);
+      return CmdReconstruct(registry, a, argc, argv);
     }
     if (cmd == "shape") return CmdShape(Parse(argc, argv, 2, {}, {}));
     if (cmd == "voxelize") return CmdVoxelize(registry, argc, argv);

@@ -10,7 +10,9 @@
 #include "framework/util/parallel.h"
 #include "framework/voxel/voxelize.h"
 
+#include <cctype>
 #include <chrono>
+#include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -19,13 +21,15 @@ namespace arcs {
 
 namespace {
 
-const char* kVoxelizeHelp = R"(arcs voxelize MESH OUT.npy [options]
+const char* kVoxelizeHelp = R"(usage: arcs voxelize MESH OUT [options]
 
 Winding-number occupancy (Luo et al., Alg. 1) of MESH on an r x r x r grid.
 OUT.npy is an (r, r, r) array with arr[i, j, k] the value at (x_i, y_j, z_k),
 x_i = linspace(lo_x, hi_x, r)[i] (the layout of `arcs sdf` grids; numpy
 meshgrid indexing='ij'), plus the sidecar OUT.npy.bounds
-("xmin ymin zmin xmax ymax zmax") that the SDF .npy reader uses.
+("xmin ymin zmin xmax ymax zmax") that the SDF .npy reader uses. OUT.npz holds
+S (that array), bounds (2, 3) and U (the nodes); OUT.txt (.xyzs, .sdf) holds
+one line "x y z value" per node.
 
   --resolution R        nodes per axis (default 128)
   --method M            fast (default) | exact | naive | ray_parity
@@ -58,8 +62,32 @@ Vec3 ParseCorner(const std::string& s, const std::string& what) {
   cli::Usage(what + " takes one number or X,Y,Z, got '" + s + "'");
 }
 
+// OUT by extension: .npy (the array + bounds sidecar), .npz (S = the array,
+// bounds, U = the nodes: what the SDF readers take) or text (.txt .xyzs .sdf:
+// "x y z value" per node); anything else is refused before any work.
+void CheckVolumeExtension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (e != ".npy" && e != ".npz" && e != ".txt" && e != ".xyzs" && e != ".sdf")
+    throw InputError(path, 0, "unsupported volume output extension '" + e +
+                                  "' (supported: .npy (array + .bounds sidecar), .npz (S, bounds, U), "
+                                  ".txt .xyzs .sdf (text 'x y z value'))");
+}
+
 void WriteVolume(const std::string& path, const VolumeGrid& vol, bool f32) {
   const GridInfo& g = vol.info;
+  if (std::filesystem::path(path).extension() != ".npy") {
+    NpyArray arr;  // numpy C order
+    arr.shape = {g.dims[0], g.dims[1], g.dims[2]};
+    arr.data.resize(static_cast<std::size_t>(g.NumNodes()));
+    for (int i = 0; i < g.dims[0]; ++i)
+      for (int j = 0; j < g.dims[1]; ++j)
+        for (int k = 0; k < g.dims[2]; ++k)
+          arr.data[(static_cast<std::size_t>(i) * g.dims[1] + j) * g.dims[2] + k] =
+              vol.values[i + static_cast<std::int64_t>(g.dims[0]) * (j + static_cast<std::int64_t>(g.dims[1]) * k)];
+    WriteSdf(path, SdfGridFromArray(path, arr, g.min, g.max));
+    return;
+  }
   const int nx = g.dims[0], ny = g.dims[1], nz = g.dims[2];
   const std::vector<std::int64_t> shape = {nx, ny, nz};
   std::vector<double> d(static_cast<std::size_t>(g.NumNodes()));
@@ -97,6 +125,7 @@ int CmdVoxelize(Registry& registry, int argc, char** argv) {
                                  {"--normalize", "--no-normalize", "--verify"});
   if (a.positional.size() != 2) cli::Usage("voxelize needs MESH and OUT.npy (run `arcs voxelize --help`)");
   const std::string in = a.positional[0], out = a.positional[1];
+  CheckVolumeExtension(out);
   VoxelizeOptions o;
   o.method = a.Get("--method", o.method);
   o.output = a.Get("--output", o.output);

@@ -4,6 +4,7 @@
 #include "framework/experiment/runner.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
+#include "framework/geometry/transform_file.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/points_io.h"
 #include "framework/planar/curves.h"
@@ -127,6 +128,7 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
   ctx.set_log(log);
   try {
     // 1. The dataset item.
+    Similarity to_case_frame;  // dataset file -> the case's normalised frame (recorded beside saved outputs)
     NormalizeOptions no;
     no.center = c.normalize.center;
     no.longest_side = c.normalize.longest_side;
@@ -148,6 +150,7 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
       if (!c.reference_path.empty()) data.reference = ReadMesh(c.reference_path);
       if (c.normalize.enabled) {
         const Similarity t = NormalizeTransform(data.points->P, no);
+        to_case_frame = t;
         ApplySimilarity(t, &data.points->P);
         if (data.points->HasNormals()) {
           // Rotation only: normals are directions.
@@ -168,7 +171,7 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
       }
       if (c.normalize.enabled) {
         try {
-          Normalize(&*data.reference, no);
+          to_case_frame = Normalize(&*data.reference, no);
         } catch (const InputError&) {
           throw;
         } catch (const Error& e) {
@@ -208,8 +211,10 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
     data.metrics.clear();
     if (!outputs_dir.empty()) {
       const std::string base = (std::filesystem::path(outputs_dir) / OutputStem(c)).string();
-      if (data.output && !data.output->Empty())
+      if (data.output && !data.output->Empty()) {
         set("output_file", WriteAtomically(base + ".ply", [&](const std::string& f) { WriteMesh(f, *data.output); }));
+        WriteTransformSidecar(base + ".ply", to_case_frame, "the case's normalised frame of " + c.item_path);
+      }
       else if (data.output_curve && !data.output_curve->Empty())
         set("output_file",
             WriteAtomically(base + ".obj", [&](const std::string& f) { WritePolyline(f, *data.output_curve); }));

@@ -154,8 +154,8 @@ double LoadValue(const char* p, const Dtype& t) {
 
 
 template <class T>
-void WriteNpyImpl(const std::string& path, const T* data, const std::vector<std::int64_t>& shape,
-                  const char* descr) {
+std::string EncodeNpyImpl(const std::string& path, const T* data, const std::vector<std::int64_t>& shape,
+                          const char* descr) {
   std::int64_t n = 1;
   for (std::int64_t d : shape) {
     if (d < 0) throw Error("cannot write '" + path + "': negative dimension in shape");
@@ -181,14 +181,17 @@ void WriteNpyImpl(const std::string& path, const T* data, const std::vector<std:
   out += dict;
   out.reserve(out.size() + static_cast<std::size_t>(n) * sizeof(T));
   for (std::int64_t i = 0; i < n; ++i) AppendLE<T>(&out, data[i]);
-  WriteWholeFile(path, out);
+  return out;
 }
 
 }  // namespace
 
 NpyArray ReadNpy(const std::string& path) {
   const FileBytes file = ReadWholeFile(path);
-  const std::string_view bytes = file.view();
+  return ParseNpy(path, file.view());
+}
+
+NpyArray ParseNpy(const std::string& path, std::string_view bytes) {
   if (bytes.size() < 10 || std::memcmp(bytes.data(), kMagic, 6) != 0)
     ThrowAtOffset(path, 0, "bad magic: not a .npy file (expected \\x93NUMPY)");
   const int major = static_cast<unsigned char>(bytes[6]);
@@ -301,11 +304,15 @@ NpyArray ReadNpy(const std::string& path) {
 }
 
 void WriteNpy(const std::string& path, const double* data, const std::vector<std::int64_t>& shape) {
-  WriteNpyImpl<double>(path, data, shape, "<f8");
+  WriteWholeFile(path, EncodeNpyImpl<double>(path, data, shape, "<f8"));
 }
 
 void WriteNpy(const std::string& path, const float* data, const std::vector<std::int64_t>& shape) {
-  WriteNpyImpl<float>(path, data, shape, "<f4");
+  WriteWholeFile(path, EncodeNpyImpl<float>(path, data, shape, "<f4"));
+}
+
+std::string EncodeNpy(const double* data, const std::vector<std::int64_t>& shape) {
+  return EncodeNpyImpl<double>("(npy)", data, shape, "<f8");
 }
 
 std::string NpyShapeString(const std::vector<std::int64_t>& shape) {

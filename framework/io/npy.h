@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace arcs {
@@ -27,12 +28,18 @@ struct NpyArray {
 };
 
 NpyArray ReadNpy(const std::string& path);
+// The same from bytes in memory (e.g. a member of an .npz archive); `path`
+// names the source in errors.
+NpyArray ParseNpy(const std::string& path, std::string_view bytes);
 
 // Writes '<f8' (or '<f4' for the float overload), C order, format 1.0 (2.0
 // when the header does not fit in 64 KiB). data holds prod(shape) values.
 // Throws arcs::Error when the file cannot be written.
 void WriteNpy(const std::string& path, const double* data, const std::vector<std::int64_t>& shape);
 void WriteNpy(const std::string& path, const float* data, const std::vector<std::int64_t>& shape);
+
+// The bytes of a '<f8' .npy file (what WriteNpy writes).
+std::string EncodeNpy(const double* data, const std::vector<std::int64_t>& shape);
 
 // A shape as numpy prints it: "(3,)", "(4, 5)".
 std::string NpyShapeString(const std::vector<std::int64_t>& shape);

@@ -1,5 +1,7 @@
 #include "framework/io/points_io.h"
 
+#include "framework/io/lzf.h"
+
 #include "framework/io/io_util.h"
 #include "framework/io/ply.h"
 
@@ -214,10 +216,7 @@ PointCloud ReadPcd(const std::string& path, std::string_view bytes, PointReadRep
       read_int(&points);
     } else if (kw == "DATA") {
       if (!tk.Next(&tok)) ThrowAtLine(path, ln, "DATA needs ascii, binary or binary_compressed");
-      if (tok == "binary_compressed")
-        ThrowAtLine(path, ln, "PCD 'DATA binary_compressed' is unsupported (convert with "
-                              "pcl_convert_pcd_ascii_binary to ascii or binary)");
-      if (tok != "ascii" && tok != "binary")
+      if (tok != "ascii" && tok != "binary" && tok != "binary_compressed")
         ThrowAtLine(path, ln, "unknown PCD DATA type " + Quote(tok));
       data = std::string(tok);
     } else {
@@ -244,7 +243,7 @@ PointCloud ReadPcd(const std::string& path, std::string_view bytes, PointReadRep
       ThrowAtLine(path, fields_line,
                   "field '" + f.name + "' has an unsupported TYPE/SIZE " + f.type + "/" +
                       std::to_string(f.size));
-    f.offset = data == "binary" ? stride : ntok;
+    f.offset = data != "ascii" ? stride : ntok;
     stride += f.size * f.count;
     ntok += f.count;
     if (stride > (1 << 28))  // sizes and counts are <= 2^20 each; many fields could overflow int
@@ -271,9 +270,40 @@ PointCloud ReadPcd(const std::string& path, std::string_view bytes, PointReadRep
   }
   RawPoints raw;
   raw.normals = normals;
-  const std::size_t body = lines.offset();
-  const std::uint64_t remaining = bytes.size() - body;
+  std::size_t body = lines.offset();
   const int nused = normals ? 6 : 3;
+  std::string decoded;  // binary_compressed: the points re-laid out as "binary" (one record per point)
+  if (data == "binary_compressed") {
+    // PCL's layout: u32 compressed size, u32 uncompressed size, LZF data that
+    // decodes to the fields one after another (all x, then all y, ...).
+    if (bytes.size() - body < 8) ThrowAtOffset(path, body, "binary_compressed data has no size header");
+    const std::uint32_t csize = Load<std::uint32_t>(bytes.data() + body, true);
+    const std::uint32_t usize = Load<std::uint32_t>(bytes.data() + body + 4, true);
+    if (csize > bytes.size() - body - 8)
+      ThrowAtOffset(path, body, "binary_compressed data says " + std::to_string(csize) + " compressed bytes, the file has " +
+                                    std::to_string(bytes.size() - body - 8));
+    if (static_cast<std::uint64_t>(usize) != static_cast<std::uint64_t>(points) * stride)
+      ThrowAtOffset(path, body + 4, "binary_compressed data decodes to " + std::to_string(usize) + " bytes, but " +
+                                        std::to_string(points) + " points of " + std::to_string(stride) + " bytes need " +
+                                        std::to_string(static_cast<std::uint64_t>(points) * stride));
+    std::string soa(usize, '\0');
+    const std::string err = LzfDecompress(reinterpret_cast<const unsigned char*>(bytes.data() + body + 8), csize,
+                                          reinterpret_cast<unsigned char*>(soa.data()), usize);
+    if (!err.empty()) ThrowAtOffset(path, body + 8, err + " (offsets within the compressed data)");
+    decoded.assign(usize, '\0');
+    std::size_t field_start = 0;
+    for (const PcdField& f : fields) {
+      const std::size_t w = static_cast<std::size_t>(f.size) * f.count;
+      for (std::int64_t i = 0; i < points; ++i)
+        std::memcpy(decoded.data() + static_cast<std::size_t>(i) * stride + f.offset,
+                    soa.data() + field_start + static_cast<std::size_t>(i) * w, w);
+      field_start += w * static_cast<std::size_t>(points);
+    }
+    bytes = decoded;
+    body = 0;
+    data = "binary";
+  }
+  const std::uint64_t remaining = bytes.size() - body;
   if (data == "binary") {
     if (static_cast<std::uint64_t>(points) > remaining / static_cast<std::uint64_t>(stride))
       ThrowAtOffset(path, body,

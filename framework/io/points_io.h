@@ -9,9 +9,9 @@
 //          count (3 or 6) of the first valid line decides, lines with the
 //          other count are skipped too. '#' comments and blank lines are not
 //          reported. No valid line at all -> InputError.
-//  * .pcd  DATA ascii or binary; fields x y z, optional normal_x normal_y
-//          normal_z, other fields skipped; binary_compressed -> InputError
-//          ("unsupported").
+//  * .pcd  DATA ascii, binary or binary_compressed (LZF, as PCL and Open3D
+//          write it; framework/io/lzf.h); fields x y z, optional normal_x
+//          normal_y normal_z, other fields skipped.
 // Points with a non-finite coordinate or normal (e.g. PCD's NaN placeholders
 // of organised clouds) are skipped and reported: their line in
 // skipped_lines for text data, a warning with a count and the first byte

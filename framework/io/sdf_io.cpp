@@ -2,6 +2,7 @@
 
 #include "framework/io/io_util.h"
 #include "framework/io/npy.h"
+#include "framework/io/npz.h"
 
 #include <climits>
 #include <cmath>
@@ -62,8 +63,10 @@ double Linspace(double lo, double hi, int n, int i) {
   return static_cast<double>(i) * step + lo;
 }
 
-SdfSamples GridFromArray(const std::string& path, const NpyArray& arr, std::array<double, 3> min,
-                         std::array<double, 3> max) {
+}  // namespace
+
+SdfSamples SdfGridFromArray(const std::string& path, const NpyArray& arr, std::array<double, 3> min,
+                            std::array<double, 3> max, const std::string& bounds_origin) {
   const int dim = arr.Ndim();
   if (dim != 2 && dim != 3)
     throw InputError(path, 0,
@@ -72,12 +75,6 @@ SdfSamples GridFromArray(const std::string& path, const NpyArray& arr, std::arra
   for (std::int64_t d : arr.shape) {
     if (d < 1 || d > INT_MAX)
       throw InputError(path, 0, "grid shape " + NpyShapeString(arr.shape) + " has an empty or huge axis");
-  }
-  std::string bounds_origin = "the default bounds";
-  const std::string sidecar = SdfBoundsPath(path);
-  if (FileExists(sidecar)) {
-    ReadBounds(sidecar, dim, &min, &max);
-    bounds_origin = sidecar;
   }
   if (dim == 2) {
     min[2] = max[2] = 0;
@@ -124,6 +121,18 @@ SdfSamples GridFromArray(const std::string& path, const NpyArray& arr, std::arra
   }
   s.grid = g;
   return s;
+}
+
+namespace {
+
+SdfSamples GridFromArray(const std::string& path, const NpyArray& arr, std::array<double, 3> min,
+                         std::array<double, 3> max) {
+  const std::string sidecar = SdfBoundsPath(path);
+  if (FileExists(sidecar) && (arr.Ndim() == 2 || arr.Ndim() == 3)) {
+    ReadBounds(sidecar, arr.Ndim(), &min, &max);
+    return SdfGridFromArray(path, arr, min, max, sidecar);
+  }
+  return SdfGridFromArray(path, arr, min, max);
 }
 
 // Samples from columns: points = first `dim` columns of P, values V.
@@ -284,13 +293,137 @@ void WriteSdfText(const std::string& path, const SdfSamples& s) {
   WriteWholeFile(path, out);
 }
 
+namespace {
+
+SdfSamples ReadSdfNpz(const std::string& path) {
+  const auto members = ReadNpz(path);
+  const NpyArray *U = nullptr, *S = nullptr, *B = nullptr;
+  std::string names;
+  for (const auto& [k, a] : members) {
+    names += (names.empty() ? "" : ", ") + k;
+    if (k == "U") U = &a;
+    if (k == "S") S = &a;
+    if (k == "bounds") B = &a;
+  }
+  if (!S) throw InputError(path, 0, "an SDF .npz needs an array 'S' (and 'U' for scattered samples); it has: " + names);
+  if (S->Ndim() == 2 && S->shape[1] == 1 && U) {
+    // (N, 1) values: scattered.
+  } else if (S->Ndim() == 2 || S->Ndim() == 3) {
+    const int dim = S->Ndim();
+    std::array<double, 3> lo{-1, -1, -1}, hi{1, 1, 1};
+    std::string origin = "the default bounds";
+    if (B) {
+      if (B->Ndim() != 2 || B->shape[0] != 2 || B->shape[1] != dim)
+        throw InputError(path, 0, "'bounds' must have shape (2, " + std::to_string(dim) + ") ([min, max]) for a grid 'S' of shape " +
+                                      NpyShapeString(S->shape) + ", got " + NpyShapeString(B->shape));
+      for (int a = 0; a < dim; ++a) {
+        lo[a] = B->data[a];
+        hi[a] = B->data[dim + a];
+      }
+      origin = "'bounds'";
+    }
+    return SdfGridFromArray(path + ": 'S'", *S, lo, hi, origin);
+  }
+  if (!(S->Ndim() == 1 || (S->Ndim() == 2 && S->shape[1] == 1)))
+    throw InputError(path, 0, "'S' must have shape (N,) with 'U' (N, 3) or (N, 2), or be a grid (nx, ny[, nz]); got " +
+                                  NpyShapeString(S->shape));
+  if (!U) throw InputError(path, 0, "'S' of shape " + NpyShapeString(S->shape) + " holds scattered values: 'U' (the points) is missing");
+  if (U->Ndim() != 2 || (U->shape[1] != 2 && U->shape[1] != 3))
+    throw InputError(path, 0, "'U' must have shape (N, 3) or (N, 2), got " + NpyShapeString(U->shape));
+  if (U->shape[0] != S->shape[0])
+    throw InputError(path, 0, "'U' has " + std::to_string(U->shape[0]) + " points but 'S' has " +
+                                  std::to_string(S->shape[0]) + " values (they must have the same length)");
+  const int dim = static_cast<int>(U->shape[1]);
+  return FromColumns(path + ": 'U'", *U, dim, dim, path + ": 'S'", S->data.data(), 1, U->shape[0], "point");
+}
+
+// The grid's nodes in numpy C order (meshgrid indexing='ij'), one row each.
+std::vector<double> GridNodesCOrder(const SdfSamples& s) {
+  const GridInfo& g = *s.grid;
+  const int nx = g.dims[0], ny = g.dims[1], nz = g.dim == 3 ? g.dims[2] : 1;
+  std::vector<double> out;
+  out.reserve(static_cast<std::size_t>(g.NumNodes()) * g.dim);
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int k = 0; k < nz; ++k) {
+        const std::int64_t a = i + static_cast<std::int64_t>(nx) * (j + static_cast<std::int64_t>(ny) * k);
+        for (int c = 0; c < g.dim; ++c) out.push_back(s.points(a, c));
+      }
+  return out;
+}
+
+std::vector<double> GridValuesCOrder(const SdfSamples& s) {
+  const GridInfo& g = *s.grid;
+  const int nx = g.dims[0], ny = g.dims[1], nz = g.dim == 3 ? g.dims[2] : 1;
+  std::vector<double> out(static_cast<std::size_t>(g.NumNodes()));
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int k = 0; k < nz; ++k)
+        out[(static_cast<std::size_t>(i) * ny + j) * nz + k] =
+            s.values[i + static_cast<std::int64_t>(nx) * (j + static_cast<std::int64_t>(ny) * k)];
+  return out;
+}
+
+}  // namespace
+
+void WriteSdfNpz(const std::string& path, const SdfSamples& s) {
+  CheckSamples(path, s);
+  std::vector<NpzMember> m(2);
+  m[0].name = "U";
+  m[1].name = "S";
+  const std::int64_t n = s.values.size();
+  if (s.grid) {
+    const GridInfo& g = *s.grid;
+    m[0].data = GridNodesCOrder(s);
+    m[0].shape = {n, g.dim};
+    m[1].data = GridValuesCOrder(s);
+    m[1].shape = {g.dims[0], g.dims[1]};
+    if (g.dim == 3) m[1].shape.push_back(g.dims[2]);
+    NpzMember b;
+    b.name = "bounds";
+    b.shape = {2, g.dim};
+    for (const auto* v : {&g.min, &g.max})
+      for (int a = 0; a < g.dim; ++a) b.data.push_back((*v)[a]);
+    m.push_back(std::move(b));
+  } else {
+    m[0].shape = {n, s.dim};
+    m[0].data.assign(s.points.data(), s.points.data() + n * s.dim);  // row-major = C order
+    m[1].shape = {n};
+    m[1].data.assign(s.values.data(), s.values.data() + n);
+  }
+  WriteNpz(path, m);
+}
+
+void WriteSdf(const std::string& path, const SdfSamples& s) {
+  const std::string ext = LowerExtension(path);
+  if (ext == ".txt" || ext == ".xyzs" || ext == ".sdf") return WriteSdfText(path, s);
+  if (ext == ".npz") return WriteSdfNpz(path, s);
+  if (ext != ".npy")
+    throw InputError(path, 0, "unsupported SDF output extension '" + ext +
+                                  "' (supported: .npy (grid, or (N, d+1) rows 'x y z s'), .npz (U, S, bounds), "
+                                  ".txt .xyzs .sdf (text 'x y z s'))");
+  if (s.grid) return WriteSdfGrid(path, s);
+  CheckSamples(path, s);
+  const std::int64_t n = s.values.size();
+  std::vector<double> rows(static_cast<std::size_t>(n) * (s.dim + 1));
+  for (std::int64_t i = 0; i < n; ++i) {
+    for (int a = 0; a < s.dim; ++a) rows[i * (s.dim + 1) + a] = s.points(i, a);
+    rows[i * (s.dim + 1) + s.dim] = s.values[i];
+  }
+  WriteNpy(path, rows.data(), {n, s.dim + 1});
+  // A stale bounds sidecar would make ReadSdf read these rows as a 2D grid.
+  std::error_code ec;
+  std::filesystem::remove(SdfBoundsPath(path), ec);
+}
+
 SdfSamples ReadSdf(const std::string& path) {
   const std::string ext = LowerExtension(path);
   if (ext == ".txt" || ext == ".xyzs" || ext == ".sdf") return ReadSdfText(path);
+  if (ext == ".npz") return ReadSdfNpz(path);
   if (ext != ".npy")
     throw InputError(path, 0,
                      "unsupported SDF file extension '" + ext +
-                         "' (supported: .npy, .txt, .xyzs, .sdf)");
+                         "' (supported: .npy, .npz, .txt, .xyzs, .sdf)");
   const NpyArray arr = ReadNpy(path);
   const bool sidecar = FileExists(SdfBoundsPath(path));
   if (arr.Ndim() == 3) return GridFromArray(path, arr, {-1, -1, -1}, {1, 1, 1});

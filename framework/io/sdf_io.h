@@ -20,6 +20,7 @@
 //
 // ReadSdf dispatch rule (by extension, then by array shape):
 //   .txt .xyzs .sdf        -> text
+//   .npz                   -> 'U'/'S'/'bounds' members (see WriteSdfNpz)
 //   .npy of ndim 3         -> 3D grid (default bounds [-1, 1]^3 or the sidecar)
 //   .npy of shape (N, 4)   -> scattered 3D: columns x y z s   } unless a .bounds
 //   .npy of shape (N, 3)   -> scattered 2D: columns x y s     } sidecar exists
@@ -33,6 +34,7 @@
 // format and reads back as 0.
 #pragma once
 
+#include "framework/io/npy.h"
 #include "framework/types.h"
 
 #include <array>
@@ -44,6 +46,13 @@ SdfSamples ReadSdfGrid(const std::string& values_npy,
                        const std::array<double, 3>& min = {-1, -1, -1},
                        const std::array<double, 3>& max = {1, 1, 1});
 
+// Grid samples from values in numpy C order (shape (nx, ny, nz) or (nx, ny))
+// and bounds: the .npy reader's conversion, for arrays from other sources
+// (.npz members, the Python module). `path` names the source in errors,
+// `bounds_origin` where min/max came from.
+SdfSamples SdfGridFromArray(const std::string& path, const NpyArray& arr, std::array<double, 3> min,
+                            std::array<double, 3> max, const std::string& bounds_origin = "the default bounds");
+
 // Writes s (which must have s.grid) as an (nx, ny[, nz]) '<f8' array in the
 // numpy index order above, and the "<values_npy>.bounds" sidecar.
 void WriteSdfGrid(const std::string& values_npy, const SdfSamples& s);
@@ -54,7 +63,18 @@ SdfSamples ReadSdfText(const std::string& path);
 // Writes "x y z s" (or "x y s") lines with shortest round-trip decimals.
 void WriteSdfText(const std::string& path, const SdfSamples& s);
 
-// Convenience dispatch, see the rule above.
+// .npz (numpy.savez): 'U' (N, d) points and 'S' (N,) values, or 'S' a grid
+// (nx, ny[, nz]) in the .npy grid layout with 'bounds' (2, d) = [min, max]
+// (default [-1, 1]^d; 'U' then holds the nodes in meshgrid 'ij' order and is
+// not needed to read it). WriteSdfNpz writes U, S (+ bounds for a grid).
+void WriteSdfNpz(const std::string& path, const SdfSamples& s);
+
+// Writes by extension: .npy (a grid as WriteSdfGrid, scattered samples as an
+// (N, d+1) array of rows 'x y z s', which ReadSdf reads back), .npz, text
+// (.txt .xyzs .sdf). Another extension is an InputError listing these.
+void WriteSdf(const std::string& path, const SdfSamples& s);
+
+// Convenience dispatch, see the rule above; .npz as described above.
 SdfSamples ReadSdf(const std::string& path);
 
 // The sidecar path for a grid file: values_npy + ".bounds".

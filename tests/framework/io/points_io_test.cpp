@@ -175,7 +175,8 @@ TEST(PointsIoTest, PcdAsciiAndBinary) {
   // Errors.
   const std::string c = (dir / "c.pcd").string();
   WriteFile(c, header + "DATA binary_compressed\n\x01\x02");
-  testing::ExpectInputError([&] { ReadPointCloud(c); }, {c + ":11:", "unsupported"});
+  // (binary_compressed is read since issue 14: two bytes are no size header.)
+  testing::ExpectInputError([&] { ReadPointCloud(c); }, {c + ": offset", "no size header"});
   const std::string d = (dir / "d.pcd").string();
   WriteFile(d, b.substr(0, b.size() - 1));
   testing::ExpectInputError([&] { ReadPointCloud(d); }, {d + ": offset " + std::to_string(h), "shorter"});

@@ -245,7 +245,7 @@ TEST(SdfIoTest, ReadSdfDispatchRule) {
   testing::ExpectInputError([&] { ReadSdf(p1); }, {p1, "(8,)", "(nx, ny, nz)", "(N, 4)"});
   const std::string vtk = (dir / "x.vtk").string();
   WriteFile(vtk, "");
-  testing::ExpectInputError([&] { ReadSdf(vtk); }, {vtk, ".npy, .txt"});
+  testing::ExpectInputError([&] { ReadSdf(vtk); }, {vtk, ".npy, .npz, .txt"});
   std::vector<double> bad = a;
   bad[6] = std::nan("");
   WriteNpy(p4, bad.data(), {2, 4});
