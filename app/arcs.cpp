@@ -58,7 +58,7 @@ commands:
                              an sbatch job array running the shards, and the table job
                              (`arcs slurm --help`)
   table RESULTS_DIR [--tables EXP.yaml]
-                             rebuild the tables from RESULTS_DIR/results.csv
+                             rebuild the tables from RESULTS_DIR's results files
   list                       every registered stage, by role
   describe STAGE             a stage's parameters with defaults, ranges and docs
   sdf MESH OUT [--n N] [--random COUNT] [--no-normalize] [--rotate SEED] [--curve] [--threads T]
@@ -155,9 +155,10 @@ int CmdRun(Registry& registry, const Args& args, int argc, char** argv) {
   if (args.Has("--dry-run")) return ListCases(exp, registry, o) >= 0 ? 0 : 1;
   for (int i = 0; i < argc; ++i) o.command_line.push_back(argv[i]);
   const RunSummary s = RunExperiment(exp, registry, o);
-  if (o.shard.sharded()) std::fprintf(stderr, "shard %s done; the tables: `arcs table %s` once every shard is\n", o.shard.Text().c_str(), o.out_dir.c_str());
+  if (o.shard.sharded())  // N writers' partial tables would race: the table job builds them from the union
+    std::fprintf(stderr, "shard %s: tables with `arcs table %s` once every shard has run\n", o.shard.Text().c_str(), o.out_dir.c_str());
   else if (!exp.tables.empty()) WriteTablesFor(exp.tables, o.out_dir, !args.Has("--quiet"));
-  std::fprintf(stderr, "results: %s/results.csv\n", o.out_dir.c_str());
+  std::fprintf(stderr, "results: %s/%s\n", o.out_dir.c_str(), ResultsFileName(o.shard).c_str());
   return s.interrupted ? 130 : 0;
 }
 
