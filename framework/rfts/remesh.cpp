@@ -225,8 +225,22 @@ RemeshStats RemeshPatch(Mesh* mesh, const std::vector<char>& active_faces, const
   const TriangleBvh* bvh = nullptr;
   std::unique_ptr<TriangleBvh> reference;
   if (o.project) {
-    reference = std::make_unique<TriangleBvh>(*mesh);
-    bvh = reference.get();
+    // Free vertices lie on active faces and stay near them: the patch alone
+    // is the projection target (cheaper than the whole mesh for small patches).
+    Mesh patch;
+    patch.V = mesh->V;
+    if (active_faces.empty()) {
+      patch.F = mesh->F;
+    } else {
+      patch.F.resize(std::count_if(active_faces.begin(), active_faces.end(), [](char c) { return c != 0; }), 3);
+      int r = 0;
+      for (int f = 0; f < mesh->NumFaces(); ++f)
+        if (active_faces[f]) patch.F.row(r++) = mesh->F.row(f);
+    }
+    if (patch.NumFaces() > 0) {
+      reference = std::make_unique<TriangleBvh>(patch);
+      bvh = reference.get();
+    }
   }
   const double hi = o.split_ratio * o.target_edge_length;
   const double lo = o.collapse_ratio * o.target_edge_length;

@@ -39,7 +39,11 @@ void RegisterRfts(Registry& r) {
       .Int("initial_subdivisions", def.initial_subdivisions,
            "start mesh: icosphere subdivisions (official 2: 162 vertices)", 0, 7)
       .Double("initial_radius", def.initial_radius, "start mesh: icosphere radius about the origin (official 1)",
-              1e-9, 100.0);
+              1e-9, 100.0)
+      .Double("max_area_ratio", def.max_area_ratio,
+              "divergence guard (ours, not in the source): mesh area above ratio * the sample box's surface "
+              "counts as a flow singularity (last converged mesh returned)",
+              1e-9, 1e9);
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
     const SdfSamples& sm = d.RequireSamples("rfts");
     RftsOptions o;
@@ -59,6 +63,7 @@ void RegisterRfts(Registry& r) {
     o.max_stall = static_cast<int>(p.GetInt("max_stall"));
     o.initial_subdivisions = static_cast<int>(p.GetInt("initial_subdivisions"));
     o.initial_radius = p.GetDouble("initial_radius");
+    o.max_area_ratio = p.GetDouble("max_area_ratio");
     const RftsResult res = ReachForTheSpheres(sm, o, ctx);
     if (res.singular) ctx.Warn("rfts: " + res.stop_reason + "; returning the last converged mesh");
     d.SetMetric("rfts_iterations", res.iterations);

@@ -30,7 +30,7 @@ TEST(RftsE2e, ListedAndDescribedWithEveryParameter) {
   ASSERT_EQ(d.code, 0) << d.output;
   for (const char* p : {"max_iterations", "tol", "min_h", "line_search", "min_t", "max_t", "dt", "batch_size",
                         "remesh_iterations", "split_ratio", "collapse_ratio", "patience", "max_stall",
-                        "initial_subdivisions", "initial_radius", "20000"})
+                        "initial_subdivisions", "initial_radius", "max_area_ratio", "20000"})
     EXPECT_NE(d.output.find(p), std::string::npos) << p << "\n" << d.output;
 }
 
