@@ -12,6 +12,7 @@ void RegisterBuiltinStages(Registry& r) {
   RegisterSdfSweep(r);
   // SDF -> mesh baselines.
   RegisterMarchingCubes(r);
+  RegisterRfts(r);
   // RFTA empty-space samplers and arc projector.
   RegisterRasterize(r);
   RegisterRejection(r);

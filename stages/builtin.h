@@ -17,6 +17,7 @@ void RegisterSdfNoise(Registry& r);
 void RegisterSdfClamp(Registry& r);
 void RegisterSdfSweep(Registry& r);
 void RegisterMarchingCubes(Registry& r);
+void RegisterRfts(Registry& r);  // Reach for the Spheres (stages/baseline/rfts.cpp)
 void RegisterEvalStages(Registry& r);
 // Surface reconstructors (oriented points -> mesh; stages/reconstruct/).
 void RegisterScreenedPoisson(Registry& r);
