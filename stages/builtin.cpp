@@ -12,6 +12,10 @@ void RegisterBuiltinStages(Registry& r) {
   RegisterSdfSweep(r);
   // SDF -> mesh baselines.
   RegisterMarchingCubes(r);
+  RegisterDualContouring(r);
+  RegisterDcsdd(r);
+  RegisterVdbMesher(r);
+  RegisterPowerDiagram(r);
   // RFTA empty-space samplers and arc projector.
   RegisterRasterize(r);
   RegisterRejection(r);

@@ -17,6 +17,11 @@ void RegisterSdfNoise(Registry& r);
 void RegisterSdfClamp(Registry& r);
 void RegisterSdfSweep(Registry& r);
 void RegisterMarchingCubes(Registry& r);
+// SDF -> mesh baselines beside MC (stages/baseline/; framework/sdfmesh/).
+void RegisterDualContouring(Registry& r);
+void RegisterDcsdd(Registry& r);
+void RegisterVdbMesher(Registry& r);
+void RegisterPowerDiagram(Registry& r);
 void RegisterEvalStages(Registry& r);
 // Surface reconstructors (oriented points -> mesh; stages/reconstruct/).
 void RegisterScreenedPoisson(Registry& r);
