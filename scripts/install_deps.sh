@@ -12,10 +12,11 @@
 #   libembree-dev              ray-parity voxelization baseline, bench/spatial_bench comparison
 #   libpcl-dev                 screened Poisson reconstruction (pcl::Poisson; optional, ARCS_WITH_PCL)
 #   libopen3d-dev              ball pivoting (Open3D's CreateFromPointCloudBallPivoting; optional, ARCS_WITH_OPEN3D)
+#   libopenvdb-dev             OpenVDB volumeToMesh as the vdb_mesher baseline (optional, ARCS_WITH_OPENVDB)
 set -euo pipefail
 
 PACKAGES=(cmake g++ make pkg-config ccache libeigen3-dev libyaml-cpp-dev libtbb-dev libnanoflann-dev
-          libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev libopen3d-dev)
+          libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev libopen3d-dev libopenvdb-dev)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
