@@ -85,6 +85,7 @@ void DcsddOptions::Check() const {
   ARCS_CHECK_OPTION(inner_iterations >= 1, "inner_iterations", inner_iterations, ">= 1");
   ARCS_CHECK_OPTION(inner_tolerance >= 0 && std::isfinite(inner_tolerance), "inner_tolerance", inner_tolerance,
                     "finite and >= 0");
+  ARCS_CHECK_OPTION(tolerance >= 0 && std::isfinite(tolerance), "tolerance", tolerance, "finite and >= 0");
   ARCS_CHECK_OPTION(blend >= 0 && blend <= 1, "blend", blend, "in [0, 1]");
 }
 
@@ -195,8 +196,10 @@ Mesh Dcsdd(const SdfSamples& s, const DcsddOptions& o, const Context& ctx, Dcsdd
     return kept ? sum / kept : 0.0;
   };
 
-  for (int it = 0; it < o.iterations; ++it) {
+  int it = 0;
+  for (; it < o.iterations; ++it) {
     ctx.CheckStop();
+    const MatrixX3d V_before = V;
     const MatrixX3i F = TriangulateQuads(g.quads, V);
     const double residual = assign(F);
     if (it == 0) residual_first = residual;
@@ -326,6 +329,10 @@ Mesh Dcsdd(const SdfSamples& s, const DcsddOptions& o, const Context& ctx, Dcsdd
       }, 1024);
     }
     ctx.Progress(static_cast<double>(it + 1) / o.iterations, "dcsdd");
+    if (o.tolerance > 0 && (V - V_before).rowwise().norm().maxCoeff() <= o.tolerance * diag) {
+      ++it;
+      break;
+    }
   }
   MatrixX3i F = TriangulateQuads(g.quads, V);
   if (stats) {
@@ -335,7 +342,8 @@ Mesh Dcsdd(const SdfSamples& s, const DcsddOptions& o, const Context& ctx, Dcsdd
     stats->initial_sphere_residual = residual_first;
     stats->mean_sphere_residual = o.iterations > 0 ? assign(F) : residual_first;
     stats->spheres_used = used_last;
-    stats->mean_inner_iterations = o.iterations > 0 ? inner_total / o.iterations : 0.0;
+    stats->iterations = it;
+    stats->mean_inner_iterations = it > 0 ? inner_total / it : 0.0;
   }
   return CompactMesh(std::move(V), std::move(F));
 }

@@ -51,7 +51,8 @@ struct DcsddOptions {
   double proximal_weight = 0.1;  // proximal term proximal_weight |x - x_prev|^2 (the source: sqrt(0.1) as row weight)
   double svd_threshold = 0.01;   // truncated SVD of the cell solve, relative to the largest singular value (the source: 0.01)
   int inner_iterations = 100;    // Gauss-Newton steps per cell and outer iteration, at most (the source: 100)
-  double inner_tolerance = 1e-6; // a cell stops when its step is below this many cell diagonals
+  double inner_tolerance = 1e-3; // a cell stops when its step is below this many cell diagonals (ours)
+  double tolerance = 1e-4;       // stop the outer loop when no vertex moved more than this many cell diagonals (ours; 0 = never)
   double blend = 0.2;            // Hermite update towards the fitted planes (the source: 20 %)
   double dc_svd_threshold = 0.1; // the initial dual contouring's QEF threshold (DualContouringOptions' default)
   bool clamp_to_cell = true;     // keep every vertex in its cell (initial DC and every step)
@@ -64,6 +65,7 @@ struct DcsddStats {
   int vertices = 0;
   int quads = 0;
   std::int64_t spheres_used = 0;     // samples assigned to a vertex in the last outer iteration
+  int iterations = 0;                // outer iterations run
   double mean_inner_iterations = 0;  // per vertex, averaged over the outer iterations
   double mean_sphere_residual = 0;   // mean |dist(c, mesh) - r| over the last batch's assigned samples
   double initial_sphere_residual = 0;  // the same for the initial DC mesh (first batch)

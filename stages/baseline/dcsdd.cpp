@@ -28,12 +28,15 @@ void RegisterDcsdd(Registry& r) {
       .Int("inner_iterations", def.inner_iterations, "Gauss-Newton steps per cell per outer iteration, at most (the source: 100)",
            1, 100000)
       .Double("inner_tolerance", def.inner_tolerance, "a cell stops when its step is below this many cell diagonals", 0.0, 1.0)
+      .Double("tolerance", def.tolerance,
+              "stop when no vertex moved more than this many cell diagonals in an outer iteration (ours; 0 = run all)",
+              0.0, 1.0)
       .Double("blend", def.blend, "Hermite points and normals move this fraction towards the fitted planes (the source: 0.2)",
               0.0, 1.0)
       .Double("dc_svd_threshold", def.dc_svd_threshold, "QEF threshold of the initial dual contouring", 0.0, 0.999999)
       .Bool("clamp_to_cell", def.clamp_to_cell, "keep every vertex inside its grid cell")
       .Bool("manifold", def.manifold, "start from manifold dual contouring (one vertex per marching-cubes sheet)");
-  s.outputs = {"dcsdd_sphere_residual", "dcsdd_initial_residual", "dcsdd_inner_iterations"};
+  s.outputs = {"dcsdd_sphere_residual", "dcsdd_initial_residual", "dcsdd_iterations", "dcsdd_inner_iterations"};
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
     const SdfSamples& sm = d.RequireSamples("dcsdd");
     DcsddOptions o;
@@ -46,6 +49,7 @@ void RegisterDcsdd(Registry& r) {
     o.svd_threshold = p.GetDouble("svd_threshold");
     o.inner_iterations = static_cast<int>(p.GetInt("inner_iterations"));
     o.inner_tolerance = p.GetDouble("inner_tolerance");
+    o.tolerance = p.GetDouble("tolerance");
     o.blend = p.GetDouble("blend");
     o.dc_svd_threshold = p.GetDouble("dc_svd_threshold");
     o.clamp_to_cell = p.GetBool("clamp_to_cell");
@@ -55,6 +59,7 @@ void RegisterDcsdd(Registry& r) {
     d.output = Dcsdd(sm, o, ctx, &st);
     d.SetMetric("dcsdd_sphere_residual", st.mean_sphere_residual);
     d.SetMetric("dcsdd_initial_residual", st.initial_sphere_residual);
+    d.SetMetric("dcsdd_iterations", st.iterations);
     d.SetMetric("dcsdd_inner_iterations", st.mean_inner_iterations);
   });
   r.Register(std::move(s));
