@@ -12,6 +12,7 @@
 #   libembree-dev              ray-parity voxelization baseline, bench/spatial_bench comparison
 #   libpcl-dev                 screened Poisson reconstruction (pcl::Poisson; optional, ARCS_WITH_PCL)
 #   libopen3d-dev              ball pivoting (Open3D's CreateFromPointCloudBallPivoting; optional, ARCS_WITH_OPEN3D)
+#   libopenvdb-dev             OpenVDB volumeToMesh as the vdb_mesher baseline (optional, ARCS_WITH_OPENVDB)
 #   slurm-wlm munge            a single-node Slurm cluster for `arcs slurm` (scripts/slurm_local.sh, the cluster test)
 #   zlib1g-dev                 .npz archives (deflated members, CRC-32; framework/io/npz.cpp)
 #   pybind11-dev python3-dev python3-numpy   the Python module `arcs` (python/; optional, ARCS_BUILD_PYTHON)
@@ -20,7 +21,7 @@ set -euo pipefail
 PACKAGES=(cmake g++ make pkg-config ccache libeigen3-dev libyaml-cpp-dev libtbb-dev libnanoflann-dev
           libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev libopen3d-dev
           slurm-wlm munge
-          zlib1g-dev pybind11-dev python3-dev python3-numpy)
+          zlib1g-dev pybind11-dev python3-dev python3-numpy libopenvdb-dev)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -13,6 +13,10 @@ void RegisterBuiltinStages(Registry& r) {
   // SDF -> mesh baselines.
   RegisterMarchingCubes(r);
   RegisterRfts(r);
+  RegisterDualContouring(r);
+  RegisterDcsdd(r);
+  RegisterVdbMesher(r);
+  RegisterPowerDiagram(r);
   // RFTA empty-space samplers and arc projector.
   RegisterRasterize(r);
   RegisterRejection(r);

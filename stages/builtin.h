@@ -18,6 +18,11 @@ void RegisterSdfClamp(Registry& r);
 void RegisterSdfSweep(Registry& r);
 void RegisterMarchingCubes(Registry& r);
 void RegisterRfts(Registry& r);  // Reach for the Spheres (stages/baseline/rfts.cpp)
+// SDF -> mesh baselines beside MC (stages/baseline/; framework/sdfmesh/).
+void RegisterDualContouring(Registry& r);
+void RegisterDcsdd(Registry& r);
+void RegisterVdbMesher(Registry& r);
+void RegisterPowerDiagram(Registry& r);
 void RegisterEvalStages(Registry& r);
 // Surface reconstructors (oriented points -> mesh; stages/reconstruct/).
 void RegisterScreenedPoisson(Registry& r);

@@ -469,7 +469,8 @@ std::vector<TableSpec> ParseTables(const std::string& f, const YAML::Node& node,
     for (size_t i = 0; i < ts.size(); ++i) {
       const std::string fld = "tables[" + std::to_string(i) + "]";
       const YAML::Node t = ts[i];
-      CheckKeys(f, t, fld, {"name", "metrics", "rows", "columns", "aggregate", "groups", "reference", "format"});
+      CheckKeys(f, t, fld, {"name", "metrics", "rows", "columns", "aggregate", "groups", "reference", "format", "paired",
+                            "failures"});
       TableSpec spec;
       spec.name = t["name"] ? GetString(f, t["name"], fld + ".name") : "table" + std::to_string(i);
       if (!t["metrics"]) Fail(f, t, fld, "missing key 'metrics'");
@@ -484,6 +485,8 @@ std::vector<TableSpec> ParseTables(const std::string& f, const YAML::Node& node,
           Fail(f, t["aggregate"], fld + ".aggregate", "must be one of mean|median|min|max|std|count");
       }
       if (t["format"]) spec.format = GetString(f, t["format"], fld + ".format");
+      if (t["paired"]) spec.paired = GetBool(f, t["paired"], fld + ".paired");
+      if (t["failures"]) spec.failures = GetBool(f, t["failures"], fld + ".failures");
       if (t["groups"]) {
         const YAML::Node gs = t["groups"];
         if (!gs.IsSequence()) Fail(f, gs, fld + ".groups", "must be a list of {name, where}");

@@ -85,6 +85,13 @@ struct TableSpec {
   // when columns is "method"); keys not listed follow in first-appearance
   // order. Without it, text keys keep first-appearance order.
   std::vector<std::string> column_order;
+  // Paired means (the RFTA paper's Table 2 convention): a (dataset, item,
+  // input, row key) counts only where every column key has an ok row; adds
+  // a "shapes" column with the number of such items per row.
+  bool paired = false;
+  // Also writes <name>_failures: one row per failed case (row key, item,
+  // column key, error).
+  bool failures = false;
 };
 
 struct Experiment {

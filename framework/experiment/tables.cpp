@@ -138,6 +138,61 @@ bool SplitCondition(const std::string& condition, std::string* col) {
   return false;
 }
 
+// The item identity of a results row: dataset, item and input pipeline.
+std::string ItemKey(const CsvTable& t, size_t r) {
+  std::string k;
+  for (const char* c : {"dataset", "item", "input"}) {
+    const int i = t.Column(c);
+    k += (i >= 0 ? t.rows[r][i] : std::string()) + "\x1f";
+  }
+  return k;
+}
+
+}  // namespace
+
+bool EvalCondition(const CsvTable& t, size_t r, const std::string& condition);
+
+namespace {
+
+// Paired tables: keeps the ok rows `sel` of the (item, row key) pairs where
+// every column key seen in the group (failed rows included) has an ok row.
+std::vector<size_t> PairedRows(const CsvTable& results, const TableSpec& spec, int row_col, int col_col,
+                               const std::vector<size_t>& sel, const GroupSpec& group,
+                               std::map<std::string, int>* count) {
+  std::set<std::string> all_cols;
+  for (size_t r = 0; r < results.rows.size(); ++r) {
+    bool keep = true;
+    for (const auto& w : group.where) keep = keep && EvalCondition(results, r, w);
+    if (keep) all_cols.insert(results.rows[r][col_col]);
+  }
+  std::map<std::string, std::set<std::string>> ok;  // (item, row key) -> column keys that succeeded
+  for (size_t r : sel) ok[ItemKey(results, r) + results.rows[r][row_col]].insert(results.rows[r][col_col]);
+  std::vector<size_t> out;
+  std::set<std::string> counted;
+  for (size_t r : sel) {
+    const std::string key = ItemKey(results, r) + results.rows[r][row_col];
+    if (ok[key].size() != all_cols.size()) continue;
+    out.push_back(r);
+    if (counted.insert(key).second) ++(*count)[results.rows[r][row_col]];
+  }
+  return out;
+}
+
+// One row per failed case: row key, item, column key, error.
+BuiltTable FailuresTable(const CsvTable& results, const TableSpec& spec, int row_col, int col_col) {
+  BuiltTable t;
+  t.name = spec.name + "_failures";
+  t.header = {spec.rows, "item", spec.columns, "error"};
+  const int status = results.Column("status"), item = results.Column("item"), error = results.Column("error");
+  for (size_t r = 0; r < results.rows.size(); ++r) {
+    if (status < 0 || results.rows[r][status] == "ok") continue;
+    t.cells.push_back({results.rows[r][row_col], item >= 0 ? results.rows[r][item] : "",
+                       results.rows[r][col_col], error >= 0 ? results.rows[r][error] : ""});
+  }
+  t.title = spec.name + " — failed cases (" + std::to_string(t.cells.size()) + ")";
+  return t;
+}
+
 }  // namespace
 
 void ValidateTables(const std::vector<TableSpec>& specs, const std::vector<std::string>& columns,
@@ -238,6 +293,8 @@ std::vector<BuiltTable> BuildTables(const std::vector<TableSpec>& specs, const C
         for (const auto& w : group.where) keep = keep && EvalCondition(results, r, w);
         if (keep) sel.push_back(r);
       }
+      std::map<std::string, int> paired_count;  // row key -> items kept (paired tables)
+      if (spec.paired) sel = PairedRows(results, spec, row_col, col_col, sel, group, &paired_count);
       std::vector<std::string> row_keys, col_keys;
       for (size_t r : sel) {
         const auto& rk = results.rows[r][row_col];
@@ -262,6 +319,10 @@ std::vector<BuiltTable> BuildTables(const std::vector<TableSpec>& specs, const C
       t.name = spec.name + (groups.size() > 1 || group.name != "all" ? "_" + group.name : "");
       t.title = spec.name + " — " + group.name + " (" + spec.aggregate + " over " + std::to_string(sel.size()) + " cases)";
       t.header.push_back(spec.rows);
+      if (spec.paired) {
+        t.title += ", paired: shapes where every " + spec.columns + " succeeded";
+        t.header.push_back("shapes");
+      }
       struct Col {
         int metric_idx;
         std::string key;       // our column key, or "" for a reference column
@@ -289,6 +350,7 @@ std::vector<BuiltTable> BuildTables(const std::vector<TableSpec>& specs, const C
       }
       for (const auto& rk : row_keys) {
         std::vector<std::string> line{rk};
+        if (spec.paired) line.push_back(std::to_string(paired_count[rk]));
         for (const auto& col : cols) {
           if (!col.key.empty()) {
             const int mc = metric_cols[col.metric_idx];
@@ -327,6 +389,7 @@ std::vector<BuiltTable> BuildTables(const std::vector<TableSpec>& specs, const C
       }
       out.push_back(std::move(t));
     }
+    if (spec.failures) out.push_back(FailuresTable(results, spec, row_col, col_col));
   }
   return out;
 }
