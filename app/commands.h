@@ -9,5 +9,6 @@ namespace arcs {
 
 int CmdVoxelize(Registry& registry, int argc, char** argv);  // app/cmd_voxelize.cpp
 int CmdMorph(Registry& registry, int argc, char** argv);     // app/cmd_morph.cpp
+int CmdPlot(int argc, char** argv);                          // app/cmd_plot.cpp (plot, render, report)
 
 }  // namespace arcs
