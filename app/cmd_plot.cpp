@@ -55,10 +55,10 @@ std::string FindPython() {
 int CmdPlot(int argc, char** argv) {
   const std::string script = FindPlotScript();
   const std::string python = FindPython();
-  std::vector<std::string> args = {python, script};
-  for (int i = 1; i < argc; ++i) args.push_back(argv[i]);  // argv[1] = plot | render | report
   std::vector<char*> cargs;
-  for (auto& a : args) cargs.push_back(a.data());
+  cargs.push_back(const_cast<char*>(python.c_str()));
+  cargs.push_back(const_cast<char*>(script.c_str()));
+  for (int i = 1; i < argc; ++i) cargs.push_back(argv[i]);  // argv[1] = plot | render | report
   cargs.push_back(nullptr);
   execvp(python.c_str(), cargs.data());
   throw Error("cannot run " + python + " for arcs " + argv[1] + ": " + std::strerror(errno) +

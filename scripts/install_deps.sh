@@ -12,10 +12,13 @@
 #   libembree-dev              ray-parity voxelization baseline, bench/spatial_bench comparison
 #   libpcl-dev                 screened Poisson reconstruction (pcl::Poisson; optional, ARCS_WITH_PCL)
 #   libopen3d-dev              ball pivoting (Open3D's CreateFromPointCloudBallPivoting; optional, ARCS_WITH_OPEN3D)
+#   python3-matplotlib python3-numpy  `arcs plot|render|report` (scripts/arcs_plot.py, headless Agg)
+#   chromium                   the report test loads the HTML page headless and checks every image
 set -euo pipefail
 
 PACKAGES=(cmake g++ make pkg-config ccache libeigen3-dev libyaml-cpp-dev libtbb-dev libnanoflann-dev
-          libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev libopen3d-dev)
+          libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev libopen3d-dev
+          python3-matplotlib python3-numpy chromium)
 
 missing=()
 for p in "${PACKAGES[@]}"; do
