@@ -102,11 +102,12 @@ int main(int argc, char** argv) {
                 Median(cw) + Median(fw), Median(cc) + Median(fc), Median(fw), Median(fc));
     std::printf("  full-resolution mesh: %d vertices (%.2f %% of points), %d triangles, closed %d, manifold %d, "
                 "genus %d, components %d; inserted %lld inside faces, %lld on edges; %lld merged (same "
-                "position), %lld dropped (site in no face); %lld folded triangles (%.2f %%)\n",
+                "position), %lld dropped (site in no face); %lld Delaunay flips; %lld folded triangles (%.2f %%)\n",
                 tf.referenced_vertices, 100.0 * tf.referenced_vertices / pc.P.rows(), tf.faces, tf.closed,
                 tf.manifold, tf.genus, tf.components, static_cast<long long>(fs.interior_points),
                 static_cast<long long>(fs.edge_points), static_cast<long long>(fs.merged_points),
-                static_cast<long long>(fs.dropped_points), static_cast<long long>(fs.folded_triangles),
+                static_cast<long long>(fs.dropped_points), static_cast<long long>(fs.flips),
+                static_cast<long long>(fs.folded_triangles),
                 tf.faces ? 100.0 * fs.folded_triangles / tf.faces : 0.0);
     if (!out_dir.empty()) {
       std::filesystem::create_directories(out_dir);

@@ -71,6 +71,75 @@ struct EdgePoint {
   std::int32_t row;  // input row
 };
 
+// Delaunay edge flips on the surface (ours): an edge shared by exactly two
+// triangles whose opposite angles sum to more than pi is replaced by the other
+// diagonal of its quad, unless that diagonal already is an edge (which would
+// make it non-manifold) or the two new triangles would fold against each
+// other or against the old pair. Flips keep the vertices, the face count and
+// the topology; they remove the slivers the per-face triangulation leaves
+// along the coarse edges. At most max_flips flips (flips on a curved surface
+// need not terminate by themselves). Returns the number of flips.
+std::int64_t DelaunayFlips(const MatrixX3d& V, std::vector<std::array<int, 3>>* faces, std::int64_t max_flips) {
+  auto& F = *faces;
+  std::unordered_map<std::uint64_t, std::array<int, 3>> edge;  // key -> faces (two; [2] = count)
+  edge.reserve(F.size() * 2);
+  for (int f = 0; f < static_cast<int>(F.size()); ++f)
+    for (int j = 0; j < 3; ++j) {
+      auto& e = edge.try_emplace(EdgeKey(F[f][j], F[f][(j + 1) % 3]), std::array<int, 3>{-1, -1, 0}).first->second;
+      if (e[2] < 2) e[e[2]] = f;
+      ++e[2];
+    }
+  auto normal = [&](int a, int b, int c) -> Vec3 {
+    return (V.row(b) - V.row(a)).transpose().cross((V.row(c) - V.row(a)).transpose());
+  };
+  auto angle = [&](int at, int x, int y) {
+    const Vec3 p = (V.row(x) - V.row(at)).transpose(), q = (V.row(y) - V.row(at)).transpose();
+    return std::atan2(p.cross(q).norm(), p.dot(q));
+  };
+  std::vector<std::uint64_t> work;
+  work.reserve(edge.size());
+  for (const auto& [k, e] : edge)
+    if (e[2] == 2) work.push_back(k);
+  std::sort(work.begin(), work.end());  // deterministic order
+  std::int64_t flips = 0;
+  while (!work.empty() && flips < max_flips) {
+    const std::uint64_t key = work.back();
+    work.pop_back();
+    const auto it = edge.find(key);
+    if (it == edge.end() || it->second[2] != 2) continue;
+    const int f1 = it->second[0], f2 = it->second[1];
+    const int x = static_cast<int>(key >> 32), y = static_cast<int>(key & 0xffffffffu);
+    // Orient: f1 = (u, v, a) with u -> v, f2 = (v, u, b).
+    int j1 = 0;
+    while (j1 < 3 && !((F[f1][j1] == x || F[f1][j1] == y) && (F[f1][(j1 + 1) % 3] == x || F[f1][(j1 + 1) % 3] == y))) ++j1;
+    if (j1 == 3) continue;
+    const int u = F[f1][j1], v = F[f1][(j1 + 1) % 3], a = F[f1][(j1 + 2) % 3];
+    int b = -1;
+    for (int j = 0; j < 3; ++j)
+      if (F[f2][j] == v && F[f2][(j + 1) % 3] == u) b = F[f2][(j + 2) % 3];
+    if (b < 0 || a == b) continue;  // not consistently oriented here: leave it
+    if (angle(a, u, v) + angle(b, v, u) <= M_PI + 1e-9) continue;
+    if (edge.count(EdgeKey(a, b))) continue;
+    const Vec3 n_old = normal(u, v, a).normalized() + normal(v, u, b).normalized();
+    const Vec3 n1 = normal(a, u, b), n2 = normal(b, v, a);
+    if (n1.dot(n2) <= 0 || n1.dot(n_old) <= 0 || n2.dot(n_old) <= 0) continue;
+    F[f1] = {a, u, b};
+    F[f2] = {b, v, a};
+    edge.erase(it);
+    edge[EdgeKey(a, b)] = {f1, f2, 2};
+    auto replace = [&](int p, int q, int from, int to) {
+      auto& e = edge[EdgeKey(p, q)];
+      for (int j = 0; j < 2; ++j)
+        if (e[j] == from) e[j] = to;
+    };
+    replace(u, b, f2, f1);
+    replace(v, a, f1, f2);
+    ++flips;
+    for (const std::uint64_t k2 : {EdgeKey(a, u), EdgeKey(u, b), EdgeKey(b, v), EdgeKey(v, a)}) work.push_back(k2);
+  }
+  return flips;
+}
+
 }  // namespace
 
 void FullResolutionOptions::Check() const {
@@ -247,15 +316,24 @@ Mesh RefineGraphVoronoi(const MatrixX3d& P, const GraphVoronoiResult& coarse, co
   m.V.resize(nvert, 3);
   for (int i = 0; i < n; ++i)
     if (vid[i] >= 0) m.V.row(vid[i]) = P.row(i);
-  m.F.resize(ntri, 3);
-  std::int64_t r = 0;
-  for (int f = 0; f < nf; ++f) {
-    const Vec3 nc = (corner(cm.F(f, 1)) - corner(cm.F(f, 0))).cross(corner(cm.F(f, 2)) - corner(cm.F(f, 0)));
+  std::vector<std::array<int, 3>> tri;
+  std::vector<int> coarse_face;
+  tri.reserve(ntri);
+  coarse_face.reserve(ntri);
+  for (int f = 0; f < nf; ++f)
     for (const auto& t : out[f]) {
-      m.F.row(r++) << vid[t[0]], vid[t[1]], vid[t[2]];
-      const Vec3 nt = (P.row(t[1]) - P.row(t[0])).transpose().cross((P.row(t[2]) - P.row(t[0])).transpose());
-      if (nt.dot(nc) < 0) ++st.folded_triangles;
+      tri.push_back({vid[t[0]], vid[t[1]], vid[t[2]]});
+      coarse_face.push_back(f);
     }
+  if (opt.delaunay_flips) st.flips = DelaunayFlips(m.V, &tri, 20 * static_cast<std::int64_t>(tri.size()) + 100);
+  m.F.resize(ntri, 3);
+  for (std::int64_t r = 0; r < ntri; ++r) {
+    const auto& t = tri[r];
+    m.F.row(r) << t[0], t[1], t[2];
+    const int f = coarse_face[r];  // the coarse face this slot came from (a flip keeps the slot)
+    const Vec3 nc = (corner(cm.F(f, 1)) - corner(cm.F(f, 0))).cross(corner(cm.F(f, 2)) - corner(cm.F(f, 0)));
+    const Vec3 nt = (m.V.row(t[1]) - m.V.row(t[0])).transpose().cross((m.V.row(t[2]) - m.V.row(t[0])).transpose());
+    if (nt.dot(nc) < 0) ++st.folded_triangles;
   }
   // Rows that are neither vertices nor counted yet were merged in a face's plane.
   std::int64_t used_inserted = 0;

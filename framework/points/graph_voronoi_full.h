@@ -24,6 +24,10 @@
 // Vertices sit at the input points themselves (the sites' included). Points
 // at the same position (in 3D, or after clamping in a face's plane) become
 // one vertex (counted). Points of a site in no face are dropped (counted).
+//  4. (delaunay_flips) edges shared by two triangles are flipped while their
+//     opposite angles sum to more than pi, unless the other diagonal already is
+//     an edge or the new triangles would fold: the slivers along the coarse
+//     edges go, vertices, face count and topology stay.
 // The connectivity comes from the projection onto the coarse face, so where
 // the surface bends strongly inside one coarse face some triangles fold over
 // (counted in `folded_triangles`: normal opposite to the coarse face's).
@@ -39,6 +43,7 @@ namespace arcs {
 struct FullResolutionOptions {
   double interior_margin = 1e-4;  // smallest barycentric coordinate of an interior point
   double corner_margin = 1e-3;    // edge points closer than this (in t) to a corner become interior
+  bool delaunay_flips = true;     // then flip edges to the surface Delaunay condition (see below)
   void Check() const;             // throws OptionError
 };
 
@@ -50,6 +55,7 @@ struct FullResolutionStats {
   std::int64_t merged_points = 0;     // rows at a position some other vertex already has
   std::int64_t dropped_points = 0;    // rows whose site is in no face (or removed outliers)
   std::int64_t folded_triangles = 0;  // triangles whose normal opposes their coarse face's
+  std::int64_t flips = 0;             // Delaunay edge flips made
   double pct_points = 0;              // 100 * vertices / input_points
   double seconds = 0;                 // wall time of the refinement
 };

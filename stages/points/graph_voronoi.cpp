@@ -42,7 +42,7 @@ void RegisterGraphVoronoi(Registry& r) {
                "gv_closed",      "gv_manifold",     "gv_mesh_genus",   "gv_duplicates",
                "gv_outliers_removed", "gv_truncated_searches",
                "gv_full_vertices", "gv_full_pct_points", "gv_full_s", "gv_full_folded", "gv_full_merged",
-               "gv_full_dropped"};
+               "gv_full_dropped", "gv_full_flips"};
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
     if (!d.points) throw Error("graph_voronoi needs a point cloud (a points dataset or a point sampler)");
     GraphVoronoiOptions o;
@@ -70,6 +70,7 @@ void RegisterGraphVoronoi(Registry& r) {
       d.SetMetric("gv_full_folded", static_cast<double>(fs.folded_triangles));
       d.SetMetric("gv_full_merged", static_cast<double>(fs.merged_points));
       d.SetMetric("gv_full_dropped", static_cast<double>(fs.dropped_points));
+      d.SetMetric("gv_full_flips", static_cast<double>(fs.flips));
     }
     const Topology topo = ComputeTopology(res.mesh);
     d.SetMetric("gv_prep_s", st.prep_s);

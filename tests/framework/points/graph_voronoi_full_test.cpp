@@ -98,7 +98,7 @@ TEST(Delaunay2D, CollinearEdgePointsSplitTheHull) {
   for (const auto& f : t)
     for (int j = 0; j < 3; ++j) {
       // counter-clockwise: each directed edge once
-      EXPECT_EQ(++edges[{f[j], f[(j + 1) % 3]}], 1);
+      EXPECT_EQ(++edges[std::make_pair(f[j], f[(j + 1) % 3])], 1);
       EXPECT_NE(f[j], 6);
     }
   for (auto [a, b] : std::vector<std::pair<int, int>>{{1, 3}, {3, 4}, {4, 2}}) EXPECT_EQ(edges.count({a, b}), 1u);
