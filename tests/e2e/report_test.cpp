@@ -43,7 +43,7 @@ class ReportTest : public ::testing::Test {
 // The quickstart (MC and RFTA on the built-in shapes, two grid sizes) with --save-outputs.
 fs::path RunQuickstart(const fs::path& dir) {
   const CmdResult run = RunCmd(Arcs() + " run '" ARCS_SOURCE_DIR "/experiments/quickstart.yaml' --quiet "
-                               "--save-outputs --set 'inputs.grid.sdf_grid.n=[8,12]' --out '" +
+                               "--save-outputs --set 'inputs.grid.sdf_grid.n=[10,14]' --out '" +
                                (dir / "qs").string() + "'");
   EXPECT_EQ(run.code, 0) << run.output;
   return dir / "qs";
