@@ -208,7 +208,18 @@ def fig_scatter(res, out, formats, ref_csv):
             p = paper.get((r["item"], n, r["method"].lower(), PAPER_METRIC.get(m, m))) if n else None
             if v is not None and p is not None:
                 ours_vs_paper[(r["method"], m)].append((p, v))
-    panels = [("pair", a, b, m) for (a, b) in pairs for m in metrics]
+    pair_pts = {}
+    for (a, b) in pairs:
+        for m in metrics:
+            pts = []
+            for case, d in by_case.items():
+                if a in d and b in d:
+                    x, y = res.value(d[a], m), res.value(d[b], m)
+                    if x is not None and y is not None and x > 0 and y > 0:
+                        pts.append((x, y, grid_n(d[a]) or 0))
+            if pts:
+                pair_pts[(a, b, m)] = pts
+    panels = [("pair", a, b, m) for (a, b, m) in pair_pts]
     panels += [("paper", meth, None, m) for (meth, m) in ours_vs_paper]
     if not panels:
         return None, "needs two methods on the same cases, or shapes in the paper's per-shape CSV"
@@ -217,14 +228,7 @@ def fig_scatter(res, out, formats, ref_csv):
     fig, axes = plt.subplots(rows_n, cols, figsize=(4.2 * cols, 3.9 * rows_n), squeeze=False)
     for ax, (kind, a, b, m) in zip(axes.flat, panels):
         if kind == "pair":
-            xs, ys, cs = [], [], []
-            for case, d in by_case.items():
-                if a in d and b in d:
-                    x, y = res.value(d[a], m), res.value(d[b], m)
-                    if x is not None and y is not None and x > 0 and y > 0:
-                        xs.append(x)
-                        ys.append(y)
-                        cs.append(grid_n(d[a]) or 0)
+            xs, ys, cs = (list(t) for t in zip(*pair_pts[(a, b, m)]))
             sc = ax.scatter(xs, ys, c=cs, cmap="viridis", s=18)
             if any(cs):
                 fig.colorbar(sc, ax=ax, label="grid n")
@@ -290,7 +294,7 @@ def fig_ablation(res, out, formats):
                 ax.set_yscale("log")
             ax.set(xlabel=p, ylabel=m)
             ax.grid(True, alpha=0.25)
-            if i == 0 and j == 0:
+            if i == 0 and j == 0 and ax.get_lines():
                 ax.legend(fontsize=7)
     fig.suptitle("ablation: metric against every swept parameter (mean over items)")
     fig.tight_layout()
@@ -320,8 +324,9 @@ def fig_voxel(res, out, formats, ref_csv):
             for r in res.rows:
                 if r["method"] == meth and to_float(r.get(rc)) is not None:
                     d[to_float(r[rc])].append(res.value(r, m))
-            xs = sorted(d)
-            ax.plot(xs, [mean(d[x]) for x in xs], "o-", label=meth + " (ours)")
+            xs = [x for x in sorted(d) if mean(d[x]) is not None]
+            if xs:
+                ax.plot(xs, [mean(d[x]) for x in xs], "o-", label=meth + " (ours)")
         pm = m.replace("doph_", "")
         for (metric, meth), d in paper.items():
             if metric == pm:
@@ -331,6 +336,7 @@ def fig_voxel(res, out, formats, ref_csv):
                title="voxelization (Luo et al. tables): " + m)
         ax.set_xticks(sorted({to_float(r[rc]) for r in res.rows if to_float(r.get(rc))}))
         ax.get_xaxis().set_major_formatter(matplotlib.ticker.ScalarFormatter())
+        ax.get_xaxis().set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.grid(True, alpha=0.25)
         ax.legend(fontsize=7)
     fig.tight_layout()
