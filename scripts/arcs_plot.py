@@ -334,7 +334,10 @@ def fig_voxel(res, out, formats, ref_csv):
                 ax.plot(xs, [mean(d[x]) for x in xs], "s--", mfc="none", alpha=0.7, label=meth + " (paper)")
         ax.set(xscale="log", xlabel="voxel resolution", ylabel=m + " (mean over meshes)",
                title="voxelization (Luo et al. tables): " + m)
-        ax.set_xticks(sorted({to_float(r[rc]) for r in res.rows if to_float(r.get(rc))}))
+        ticks = {to_float(r[rc]) for r in res.rows if to_float(r.get(rc))}
+        for (metric, _), d in paper.items():
+            ticks |= set(d) if metric == pm else set()
+        ax.set_xticks(sorted(ticks))
         ax.get_xaxis().set_major_formatter(matplotlib.ticker.ScalarFormatter())
         ax.get_xaxis().set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.grid(True, alpha=0.25)
