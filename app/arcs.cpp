@@ -77,6 +77,12 @@ commands:
                              winding-number occupancy grid of MESH (`arcs voxelize --help`)
   morph SOURCE TARGET OUT [options]
                              deform SOURCE mesh to match TARGET's occupancy (`arcs morph --help`)
+  plot RESULTS_DIR [--figure runtime|scatter|ablation|voxel]... [--out DIR] [--formats png,pdf]
+                             the papers' figures from results.csv (`arcs plot --help`)
+  render MESH... --out IMAGE [--labels A,B,...]
+                             meshes side by side, shaded, headless
+  report RESULTS_DIR [--out FILE.html]
+                             one self-contained HTML page: tables, figures, renders per case
   version                    version, build and plugin API (also: arcs --version)
 
 `arcs COMMAND --help` lists a command's options (for reconstruct, with --method M: M's parameters).
@@ -433,6 +439,7 @@ int main(int argc, char** argv) {
     if (cmd == "voxelize") return CmdVoxelize(registry, argc, argv);
     if (cmd == "morph") return CmdMorph(registry, argc, argv);
     if (cmd == "slurm") return CmdSlurm(registry, argc, argv);
+    if (cmd == "plot" || cmd == "render" || cmd == "report") return CmdPlot(argc, argv);
     if (cmd == "version") {
       std::printf("arcs 0.1.0 (git %s, %s build, plugin API %d)\n", GitRevision(), BuildType(), ARCS_PLUGIN_API_VERSION);
       return 0;

@@ -35,5 +35,6 @@ GlobalOptions ExtractGlobalOptions(int* argc, char** argv);
 // behind the command); false when CMD has no entry (it prints its own).
 bool PrintCommandHelp(const Registry& registry, const std::string& cmd, int argc, char** argv);
 
+int CmdPlot(int argc, char** argv);                          // app/cmd_plot.cpp (plot, render, report)
 
 }  // namespace arcs

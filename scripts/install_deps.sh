@@ -16,12 +16,15 @@
 #   slurm-wlm munge            a single-node Slurm cluster for `arcs slurm` (scripts/slurm_local.sh, the cluster test)
 #   zlib1g-dev                 .npz archives (deflated members, CRC-32; framework/io/npz.cpp)
 #   pybind11-dev python3-dev python3-numpy   the Python module `arcs` (python/; optional, ARCS_BUILD_PYTHON)
+#   python3-matplotlib python3-numpy  `arcs plot|render|report` (scripts/arcs_plot.py, headless Agg)
+#   chromium                   the report test loads the HTML page headless and checks every image
 set -euo pipefail
 
 PACKAGES=(cmake g++ make pkg-config ccache libeigen3-dev libyaml-cpp-dev libtbb-dev libnanoflann-dev
           libgtest-dev libcgal-dev libembree-dev libboost-dev libpcl-dev libopen3d-dev
           slurm-wlm munge
-          zlib1g-dev pybind11-dev python3-dev python3-numpy libopenvdb-dev)
+          zlib1g-dev pybind11-dev python3-dev python3-numpy libopenvdb-dev
+          python3-matplotlib chromium)
 
 missing=()
 for p in "${PACKAGES[@]}"; do

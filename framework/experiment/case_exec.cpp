@@ -218,6 +218,14 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
       else if (data.output_curve && !data.output_curve->Empty())
         set("output_file",
             WriteAtomically(base + ".obj", [&](const std::string& f) { WritePolyline(f, *data.output_curve); }));
+      if (data.reference && !data.reference->Empty()) {  // once per item, in the outputs' frame (renders)
+        // Cases of one item may run at once: each writes its own temporary, then renames.
+        const auto ref = std::filesystem::path(outputs_dir) / (FileSafe(c.dataset + "_" + c.item) + "__reference.ply");
+        const std::string part = ref.string() + "." + c.id + ".part.ply";
+        WriteMesh(part, *data.reference);
+        std::filesystem::rename(part, ref);
+        set("reference_file", ref.filename().string());
+      }
       if (c.kind != "points" && data.points && data.points->Size() > 0)
         set("output_points_file", WriteAtomically(base + "_points.ply", [&](const std::string& f) {
               WritePointCloud(f, *data.points);

@@ -3,6 +3,7 @@
 // are ignored. Writes the mesh (vertices = the k-hop subsample) and the
 // paper's Table 1/2 figures as gv_* metrics.
 #include "framework/points/graph_voronoi.h"
+#include "framework/points/graph_voronoi_full.h"
 #include "framework/spatial/topology.h"
 #include "stages/builtin.h"
 
@@ -30,13 +31,18 @@ void RegisterGraphVoronoi(Registry& r) {
       .Bool("triangulate", def.triangulate, "triangulate faces of more than three vertices (else left open)")
       .Bool("orient", def.orient, "orient faces consistently, each component outward by signed volume")
       .Choice("vertex_position", "site", {"site", "cell_mean"},
-              "vertex at the site's input point (paper) or at the mean of its Voronoi cell");
+              "vertex at the site's input point (paper) or at the mean of its Voronoi cell")
+      .Bool("full_resolution", false,
+            "bring every non-site point into the surface (each coarse face re-triangulated with the points "
+            "of its cells; same topology, vertices at the input points; beyond the paper)");
   s.outputs = {"gv_prep_s",      "gv_kdtree_s",     "gv_knn_s",        "gv_mis_s",        "gv_voronoi_s",
                "gv_cdm_s",       "gv_cycles_s",     "gv_orient_s",     "gv_triangulate_s",
                "gv_total_s",     "gv_samples",      "gv_cdm_edges",    "gv_faces",
                "gv_pct_triangles", "gv_genus",      "gv_unused_edges", "gv_boundary_edges",
                "gv_closed",      "gv_manifold",     "gv_mesh_genus",   "gv_duplicates",
-               "gv_outliers_removed", "gv_truncated_searches"};
+               "gv_outliers_removed", "gv_truncated_searches",
+               "gv_full_vertices", "gv_full_pct_points", "gv_full_s", "gv_full_folded", "gv_full_merged",
+               "gv_full_dropped", "gv_full_flips"};
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
     if (!d.points) throw Error("graph_voronoi needs a point cloud (a points dataset or a point sampler)");
     GraphVoronoiOptions o;
@@ -54,6 +60,18 @@ void RegisterGraphVoronoi(Registry& r) {
                             : GraphVoronoiOptions::VertexPosition::kSite;
     GraphVoronoiResult res = ReconstructGraphVoronoi(d.points->P, o);
     const GraphVoronoiStats& st = res.stats;
+    if (p.GetBool("full_resolution")) {
+      if (!o.triangulate) throw OptionError("graph_voronoi: full_resolution needs triangulate: true");
+      FullResolutionStats fs;
+      res.mesh = RefineGraphVoronoi(d.points->P, res, {}, &fs);
+      d.SetMetric("gv_full_vertices", static_cast<double>(fs.vertices));
+      d.SetMetric("gv_full_pct_points", fs.pct_points);
+      d.SetMetric("gv_full_s", fs.seconds);
+      d.SetMetric("gv_full_folded", static_cast<double>(fs.folded_triangles));
+      d.SetMetric("gv_full_merged", static_cast<double>(fs.merged_points));
+      d.SetMetric("gv_full_dropped", static_cast<double>(fs.dropped_points));
+      d.SetMetric("gv_full_flips", static_cast<double>(fs.flips));
+    }
     const Topology topo = ComputeTopology(res.mesh);
     d.SetMetric("gv_prep_s", st.prep_s);
     d.SetMetric("gv_kdtree_s", st.kdtree_s);
