@@ -33,7 +33,8 @@ for f in "$BAD"/*; do
   run sdf "$ARCS" sdf "$f" "$tmp/s.npy" --n 20
   sdf="$rc ($(printf %.1f "$secs") s)"; note=""
   [[ $rc != 0 ]] && note="sdf: $msg"
-  sign=$(grep -m1 "^sign:" "$tmp/sdf.err" | sed 's/^sign: //; s/ rule.*inside/,/; s/ samples.*//')
+  sign=$(grep -m1 "^sign:" "$tmp/sdf.err" |
+         sed -E 's/^sign: ([^ ]+) rule, [0-9]+ unbalanced edges, ([0-9]+) of ([0-9]+) samples inside.*/\1, \2 of \3/')
   run vox "$ARCS" voxelize "$f" "$tmp/v.npy" --resolution 64 --threads 2
   vox="$rc ($(printf %.1f "$secs") s)"
   [[ $rc != 0 ]] && note="$note voxelize: $msg"

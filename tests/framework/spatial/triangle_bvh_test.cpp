@@ -270,7 +270,7 @@ TEST(TriangleBvh, ExtremeFiniteCoordinatesStayInBounds) {
     many.V.resize(3 * 64, 3);
     many.F.resize(64, 3);
     for (int f = 0; f < 64; ++f) {
-      for (int k = 0; k < 3; ++k) many.V.row(3 * f + k) = Vec3(f * x * 1e-3, k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0);
+      for (int k = 0; k < 3; ++k) many.V.row(3 * f + k) = Vec3(f * (x * 1e-3), k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0);
       many.F.row(f) << 3 * f, 3 * f + 1, 3 * f + 2;
     }
     const TriangleBvh b2(many);
