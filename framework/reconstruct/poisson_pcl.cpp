@@ -1,6 +1,7 @@
 // The only translation unit that sees PCL. It includes pcl/surface/poisson.h
 // (declarations) and links libpcl_surface's explicit instantiation for
 // pcl::PointNormal; never impl/poisson.hpp, which takes ~46 s to compile.
+#include "framework/util/stdout_silencer.h"
 #include "framework/reconstruct/poisson_pcl.h"
 
 #include <fcntl.h>
@@ -22,31 +23,6 @@
 #include <mutex>
 #endif
 
-namespace {
-// Redirects fd 1 to /dev/null while alive.
-class StdoutSilencer {
- public:
-  StdoutSilencer() {
-    std::fflush(stdout);
-    saved_ = ::dup(1);
-    const int null = ::open("/dev/null", O_WRONLY);
-    if (saved_ >= 0 && null >= 0) ::dup2(null, 1);
-    if (null >= 0) ::close(null);
-  }
-  ~StdoutSilencer() {
-    std::fflush(stdout);
-    if (saved_ >= 0) {
-      ::dup2(saved_, 1);
-      ::close(saved_);
-    }
-  }
-  StdoutSilencer(const StdoutSilencer&) = delete;
-  StdoutSilencer& operator=(const StdoutSilencer&) = delete;
-
- private:
-  int saved_ = -1;
-};
-}  // namespace
 
 namespace arcs::poisson_detail {
 

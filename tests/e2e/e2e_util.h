@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 #include <sys/wait.h>
 
@@ -35,6 +36,14 @@ inline std::string Arcs() { return std::string("'") + ARCS_EXE + "'"; }
 inline std::string ReadFile(const std::filesystem::path& p) {
   std::ifstream in(p);
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The value printed after NAME in `arcs eval`'s output ("chamfer   0.0123"); -1 when absent.
+inline double Metric(const std::string& eval_output, const std::string& name) {
+  std::smatch m;
+  const std::regex re(name + R"(\s+([0-9.eE+-]+))");
+  if (!std::regex_search(eval_output, m, re)) return -1;
+  return std::stod(m[1]);
 }
 
 }  // namespace arcs::testing

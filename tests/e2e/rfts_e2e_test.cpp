@@ -13,14 +13,8 @@ namespace arcs {
 namespace {
 
 using testing::Arcs;
+using testing::Metric;
 using testing::RunCmd;
-
-double Metric(const std::string& eval_output, const std::string& name) {
-  std::smatch m;
-  const std::regex re(name + R"(\s+([0-9.eE+-]+))");
-  if (!std::regex_search(eval_output, m, re)) return -1;
-  return std::stod(m[1]);
-}
 
 TEST(RftsE2e, ListedAndDescribedWithEveryParameter) {
   const auto l = RunCmd(Arcs() + " list");

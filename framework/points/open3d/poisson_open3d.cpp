@@ -1,5 +1,6 @@
 // The Open3D screened-Poisson back-end (see framework/reconstruct/poisson_open3d.h).
 // Lives with the other Open3D translation unit so Open3D's headers stay here.
+#include "framework/util/stdout_silencer.h"
 #include "framework/reconstruct/poisson_open3d.h"
 
 #include "framework/error.h"
@@ -25,32 +26,6 @@ namespace arcs::poisson_detail {
 
 bool Open3dPoissonAvailable() { return true; }
 
-namespace {
-// Redirects fd 1 to /dev/null while alive: at Debug verbosity PoissonRecon's
-// solver prints its residuals with printf; arcs' stdout carries results.
-class StdoutSilencer {
- public:
-  StdoutSilencer() {
-    std::fflush(stdout);
-    saved_ = ::dup(1);
-    const int null = ::open("/dev/null", O_WRONLY);
-    if (saved_ >= 0 && null >= 0) ::dup2(null, 1);
-    if (null >= 0) ::close(null);
-  }
-  ~StdoutSilencer() {
-    std::fflush(stdout);
-    if (saved_ >= 0) {
-      ::dup2(saved_, 1);
-      ::close(saved_);
-    }
-  }
-  StdoutSilencer(const StdoutSilencer&) = delete;
-  StdoutSilencer& operator=(const StdoutSilencer&) = delete;
-
- private:
-  int saved_ = -1;
-};
-}  // namespace
 
 Open3dPoissonResult RunOpen3dPoisson(const std::vector<double>& xyz, const std::vector<double>& normals, int depth,
                                      double scale, int threads, bool capture_area) {
