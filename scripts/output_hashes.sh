@@ -5,7 +5,7 @@
 #   2. the 2D Fig. 5 run (experiments/rfta_2d.yaml): every saved curve and
 #      the results' metric columns (wall-time columns dropped);
 #   3. the Table 1 check (experiments/rfta_table1.yaml, paper preset) on
-#      three bench meshes at n = 10: the tables' metric cells and meshes.
+#      three bench meshes (bunny_fixed, knot1, joint) at n = 10: the tables' metric cells and meshes.
 # Usage: scripts/output_hashes.sh [BUILD_DIR] [WORK_DIR]; needs ../shared.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
@@ -36,7 +36,7 @@ echo "rfta_bunny_n20_mesh $(sha256sum < "$work/bunny20_rfta.ply" | cut -c1-16)"
 echo "fig5_2d_outputs $(cd "$work/fig5/outputs" && find . -type f | sort | xargs sha256sum | sha256sum | cut -c1-16)"
 echo "fig5_2d_metrics $(strip_csv "$work"/fig5/results*.csv | sha256sum | cut -c1-16)"
 # 3. Table 1 check.
-files='["'"$shared"'/data/bench/bunny_fixed.obj","'"$shared"'/data/bench/fertility.obj","'"$shared"'/data/bench/joint.obj"]'
+files='["'"$shared"'/data/bench/bunny_fixed.obj","'"$shared"'/data/bench/knot1.obj","'"$shared"'/data/bench/joint.obj"]'
 "$arcs" run "$here/experiments/rfta_table1.yaml" --out "$work/table1" --save-outputs --quiet --threads 2 \
   --set 'inputs.grid.sdf_grid.n=[10]' --set "datasets.bench.files=$files" >/dev/null
 echo "table1_outputs $(cd "$work/table1/outputs" && find . -type f -name '*.ply' | sort | xargs sha256sum | sha256sum | cut -c1-16)"
