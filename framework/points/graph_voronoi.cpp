@@ -26,6 +26,11 @@ namespace arcs {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// The fewest vertices of a closed triangulated surface (the tetrahedron). A
+// CDM whose faces touch fewer sites is at most one triangle: it spans no
+// surface, the subsample is too coarse for the cloud (adapt_k).
+constexpr int kMinSurfaceSites = 4;
 double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 std::uint64_t EdgeKey(int a, int b) {
@@ -442,34 +447,62 @@ GraphVoronoiResult ReconstructGraphVoronoi(const MatrixX3d& P, const GraphVorono
   st.graph_edges = g.NumEdges();
   st.knn_s = Since(t) - merge_s;  // the merge counts as preparation
 
-  // --- Step 2: maximal k-hop independent set.
-  t = Clock::now();
-  res.sites.clear();
+  // --- Steps 2-5 at the requested k; on a cloud too small for k (the faces
+  // span fewer than kMinSurfaceSites sites: none, or one triangle) again with
+  // k-1, ..., 2 when adapt_k is set (see the header). Times add up over the
+  // attempts.
   std::vector<int> pos(m);  // row of Q -> graph node
   for (int v = 0; v < m; ++v) pos[order[v]] = v;
-  const std::vector<int> sites = GreedyKHopIndependentSet(g, opt.k, rm, &pos);  // in row order
-  st.sites = static_cast<int>(sites.size());
-  st.mis_s = Since(t);
+  std::vector<int> sites, cell;
+  CombinatorialDelaunayMap cdm;
+  FaceEnumeration fe;
+  std::ostringstream tried;  // "k=5: 3 sites, 2 CDM edges; ..." for the error
+  for (int k = opt.k;; --k) {
+    // --- Step 2: maximal k-hop independent set.
+    t = Clock::now();
+    sites = GreedyKHopIndependentSet(g, k, rm, &pos);  // in row order
+    st.sites = static_cast<int>(sites.size());
+    st.mis_s += Since(t);
 
-  // --- Step 3: graph Voronoi cells.
-  t = Clock::now();
-  const std::vector<int> cell = GraphVoronoiCells(g, sites);
-  st.voronoi_s = Since(t);
+    // --- Step 3: graph Voronoi cells.
+    t = Clock::now();
+    cell = GraphVoronoiCells(g, sites);
+    st.voronoi_s += Since(t);
 
-  // --- Step 4: combinatorial Delaunay map.
-  t = Clock::now();
-  const CombinatorialDelaunayMap cdm = BuildCombinatorialDelaunayMap(g, cell, st.sites, opt.a);
-  st.cdm_edges = static_cast<std::int64_t>(cdm.edges.size());
-  {
-    std::vector<std::uint8_t> has(st.sites, 0);
-    for (const auto& e : cdm.edges) has[e[0]] = has[e[1]] = 1;
-    st.cdm_vertices = static_cast<int>(std::count(has.begin(), has.end(), 1));
+    // --- Step 4: combinatorial Delaunay map.
+    t = Clock::now();
+    cdm = BuildCombinatorialDelaunayMap(g, cell, st.sites, opt.a);
+    st.cdm_edges = static_cast<std::int64_t>(cdm.edges.size());
+    {
+      std::vector<std::uint8_t> has(st.sites, 0);
+      for (const auto& e : cdm.edges) has[e[0]] = has[e[1]] = 1;
+      st.cdm_vertices = static_cast<int>(std::count(has.begin(), has.end(), 1));
+    }
+    st.cdm_s += Since(t);
+
+    // --- Step 5: faces as elementary cycles by increasing length.
+    t = Clock::now();
+    fe = EnumerateFaces(cdm, opt.max_face_size, opt.cycle_search_budget);
+    st.cycles_s += Since(t);
+    st.k_used = k;
+    st.k_attempts.push_back(k);
+    std::vector<std::uint8_t> in_face(st.sites, 0);
+    for (const auto& f : fe.faces)
+      for (int s : f) in_face[s] = 1;
+    const int face_sites = static_cast<int>(std::count(in_face.begin(), in_face.end(), 1));
+    if (face_sites >= kMinSurfaceSites) break;
+    tried << (tried.tellp() > 0 ? "; " : "") << "k=" << k << ": " << st.sites << " sites, "
+          << st.cdm_edges << " CDM edges, " << fe.faces.size() << " faces";
+    if (!opt.adapt_k || k <= 2) {
+      std::ostringstream os;
+      os << "no surface: the faces of the combinatorial Delaunay map of the " << m
+         << " points span fewer than " << kMinSurfaceSites << " sites (" << tried.str()
+         << "; kappa=" << opt.kappa << ", a=" << opt.a << "): the cloud is too small or too sparse"
+         << (opt.adapt_k ? "" : " at this k (adapt_k is off)");
+      throw InputError(who, 0, os.str());
+    }
   }
-  st.cdm_s = Since(t);
-
-  // --- Step 5: faces as elementary cycles by increasing length.
   t = Clock::now();
-  FaceEnumeration fe = EnumerateFaces(cdm, opt.max_face_size, opt.cycle_search_budget);
   st.truncated_searches = fe.truncated_searches;
   st.faces = static_cast<std::int64_t>(fe.faces.size());
   st.faces_by_size.assign(opt.max_face_size + 1, 0);
@@ -481,7 +514,7 @@ GraphVoronoiResult ReconstructGraphVoronoi(const MatrixX3d& P, const GraphVorono
     if (u == 0) ++st.unused_edges;
     if (u == 1) ++st.boundary_edges;
   }
-  st.cycles_s = Since(t);
+  st.cycles_s += Since(t);
 
   // Vertex positions: the sites, or the means of their cells.
   res.sites.resize(sites.size());

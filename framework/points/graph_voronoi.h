@@ -46,7 +46,18 @@
 //    than outlier_ratio × the median of that quantity is removed first
 //    (stats.outliers_removed; point_vertex = -1);
 //  * an open or non-manifold result is returned as it is and described in
-//    the stats (edges in no face, edges in one face, orientation conflicts).
+//    the stats (edges in no face, edges in one face, orientation conflicts);
+//  * a cloud too small for k: with k = 5 a site's cell holds about 85 points
+//    of a dense surface sample (the bunny: 35 947 points, 422 sites), so a
+//    cloud of a few hundred points gets 2-7 sites, and their CDM has no cycle
+//    (a path, a single edge: too few cells touch by more than a points) or
+//    one triangle. A closed surface needs at least 4 vertices (tetrahedron),
+//    so while the faces use fewer than 4 sites, adapt_k (default on) reruns
+//    steps 2-5 with k-1, ..., 2 (the first k that spans 4 sites is kept,
+//    stats.k_used / k_attempts); if even k = 2 does not (e.g. 10 points,
+//    all within one hop of each other) -> InputError naming the point count
+//    and the sites, CDM edges and faces of every k tried. An empty mesh is
+//    never returned.
 #pragma once
 
 #include "framework/types.h"
@@ -123,6 +134,12 @@ FaceEnumeration EnumerateFaces(const CombinatorialDelaunayMap& cdm, int max_face
 struct GraphVoronoiOptions {
   int kappa = 15;          // κ nearest neighbours per point (paper §3: 15)
   int k = 5;               // hop distance of the independent set (paper §4.2: 5)
+  // A cloud too small for k (the faces of steps 2-5 use fewer than 4 sites:
+  // no face, or a single triangle) is rerun with k-1, k-2, ..., 2 and the
+  // first k whose faces use >= 4 sites is kept (stats.k_used). Clouds for
+  // which k spans a surface are untouched (the paper's result). Off: the
+  // requested k only (an InputError when it spans no surface).
+  bool adapt_k = true;
   int a = 7;               // adjacency threshold: b12 + b21 > a (paper §3: 7)
   int max_face_size = 8;   // longest cycle enumerated as a face (paper: faces < 5 in practice)
   std::int64_t cycle_search_budget = 200000;  // DFS steps per start edge and length
@@ -151,6 +168,8 @@ struct GraphVoronoiStats {
   std::int64_t input_points = 0, duplicates = 0, outliers_removed = 0;
   std::int64_t graph_edges = 0;
   int sites = 0;              // |S| = output vertices
+  int k_used = 0;             // hop distance of the result (< opt.k only after adapt_k)
+  std::vector<int> k_attempts;  // every k tried, in order (last = k_used)
   int cdm_vertices = 0;       // sites with at least one CDM edge
   std::int64_t cdm_edges = 0;
   std::int64_t faces = 0;     // faces before triangulation

@@ -18,6 +18,9 @@ void RegisterGraphVoronoi(Registry& r) {
   const GraphVoronoiOptions def;
   s.params.Int("kappa", def.kappa, "nearest neighbours per point in the neighbourhood graph (paper: 15)", 1, 256)
       .Int("k", def.k, "hop distance of the independent set: sites are >= k hops apart (paper: 5)", 1, 1000)
+      .Bool("adapt_k", def.adapt_k,
+            "a cloud too small for k (its faces use < 4 sites: none or one triangle) is rerun with k-1, "
+            "..., 2; the k used is the gv_k_used metric (off: the requested k only, else an error)")
       .Int("a", def.a, "adjacency threshold: cells adjacent when b12 + b21 > a (paper: 7)", 0, 1000000)
       .Int("max_face_size", def.max_face_size, "longest cycle enumerated as a face", 3, 64)
       .Int("cycle_search_budget", def.cycle_search_budget,
@@ -42,12 +45,13 @@ void RegisterGraphVoronoi(Registry& r) {
                "gv_closed",      "gv_manifold",     "gv_mesh_genus",   "gv_duplicates",
                "gv_outliers_removed", "gv_truncated_searches",
                "gv_full_vertices", "gv_full_pct_points", "gv_full_s", "gv_full_folded", "gv_full_merged",
-               "gv_full_dropped", "gv_full_flips"};
+               "gv_full_dropped", "gv_full_flips", "gv_k_used"};
   s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
     if (!d.points) throw Error("graph_voronoi needs a point cloud (a points dataset or a point sampler)");
     GraphVoronoiOptions o;
     o.kappa = static_cast<int>(p.GetInt("kappa"));
     o.k = static_cast<int>(p.GetInt("k"));
+    o.adapt_k = p.GetBool("adapt_k");
     o.a = static_cast<int>(p.GetInt("a"));
     o.max_face_size = static_cast<int>(p.GetInt("max_face_size"));
     o.cycle_search_budget = p.GetInt("cycle_search_budget");
@@ -60,6 +64,10 @@ void RegisterGraphVoronoi(Registry& r) {
                             : GraphVoronoiOptions::VertexPosition::kSite;
     GraphVoronoiResult res = ReconstructGraphVoronoi(d.points->P, o);
     const GraphVoronoiStats& st = res.stats;
+    if (st.k_used != o.k)
+      ctx.Warn("graph_voronoi: k = " + std::to_string(o.k) + " spans no surface on these " +
+               std::to_string(st.input_points) + " points (too few sites); used k = " +
+               std::to_string(st.k_used) + " (" + std::to_string(st.sites) + " sites; adapt_k)");
     if (p.GetBool("full_resolution")) {
       if (!o.triangulate) throw OptionError("graph_voronoi: full_resolution needs triangulate: true");
       FullResolutionStats fs;
@@ -84,6 +92,7 @@ void RegisterGraphVoronoi(Registry& r) {
     d.SetMetric("gv_triangulate_s", st.triangulate_s);
     d.SetMetric("gv_total_s", st.total_s);
     d.SetMetric("gv_samples", st.sites);
+    d.SetMetric("gv_k_used", st.k_used);
     d.SetMetric("gv_cdm_edges", static_cast<double>(st.cdm_edges));
     d.SetMetric("gv_faces", static_cast<double>(st.faces));
     d.SetMetric("gv_pct_triangles", st.pct_triangles);
