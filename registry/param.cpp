@@ -107,11 +107,13 @@ std::string ParamSpec::RangeText() const {
     }
     case ParamType::kInt:
     case ParamType::kDouble: {
-      const bool lo = std::isfinite(min) && min > -9.2e18, hi = std::isfinite(max) && max < 9.2e18;
+      // An integer field's type limits (int32 or int64) read as no bound.
+      const bool lo = std::isfinite(min) && min > -2147483648.0, hi = std::isfinite(max) && max < 2147483647.0;
       if (!lo && !hi) return "any";
-      if (lo && hi) return "[" + FormatDouble(min) + ", " + FormatDouble(max) + "]";
-      if (lo) return ">= " + FormatDouble(min);
-      return "<= " + FormatDouble(max);
+      if (lo && hi)
+        return std::string(min_open ? "(" : "[") + FormatDouble(min) + ", " + FormatDouble(max) + (max_open ? ")" : "]");
+      if (lo) return (min_open ? "> " : ">= ") + FormatDouble(min);
+      return (max_open ? "< " : "<= ") + FormatDouble(max);
     }
   }
   return "";
@@ -128,8 +130,7 @@ void ParamSpec::CheckValue(const ParamValue& v) const {
     case ParamType::kInt: {
       auto* i = std::get_if<std::int64_t>(&v);
       if (!i) fail("must be an integer");
-      if (static_cast<double>(*i) < min || static_cast<double>(*i) > max)
-        fail("out of range " + RangeText());
+      if (!InBounds(static_cast<double>(*i))) fail("out of range " + RangeText());
       return;
     }
     case ParamType::kDouble: {
@@ -138,7 +139,7 @@ void ParamSpec::CheckValue(const ParamValue& v) const {
       else if (auto* i = std::get_if<std::int64_t>(&v)) d = static_cast<double>(*i);
       else { fail("must be a number"); return; }
       if (std::isnan(d)) fail("must not be NaN");
-      if (d < min || d > max) fail("out of range " + RangeText());
+      if (!InBounds(d)) fail("out of range " + RangeText());
       return;
     }
     case ParamType::kString:

@@ -58,16 +58,22 @@ struct ParamSpec {
   std::string name;
   ParamType type = ParamType::kDouble;
   ParamValue default_value;
-  double min = -std::numeric_limits<double>::infinity();  // inclusive bounds for numbers
+  double min = -std::numeric_limits<double>::infinity();  // bounds for numbers
   double max = std::numeric_limits<double>::infinity();
+  bool min_open = false;  // true: min itself is refused, "(min, ..."
+  bool max_open = false;  // true: max itself is refused, "..., max)"
   std::vector<std::string> choices;  // kChoice
   std::string stage_role;            // kStage: the role the nested stage must have
   std::string doc;                   // one line
 
-  // "[1, 2048]", "{a, b}", "any", ... for messages and describe output.
+  // "[1, 2048]", "[0, 0.1)", "> 0", "a|b", "any", ... for messages and describe output.
   std::string RangeText() const;
   // Throws OptionError naming the parameter if v is not allowed.
   void CheckValue(const ParamValue& v) const;
+  // Whether a number lies within [min, max] (ends open where marked).
+  bool InBounds(double v) const {
+    return (min_open ? v > min : v >= min) && (max_open ? v < max : v <= max);
+  }
 };
 
 // Fluent builder of a stage's parameter list.
@@ -91,11 +97,14 @@ class ParamSchema {
   ParamSchema& Stage(const std::string& name, const std::string& role, const StageSpec& def,
                      const std::string& doc);
 
+  // Adds a fully described parameter (the binder's way in, registry/bind.h).
+  // Throws Error if the name is taken or the default is outside its range.
+  ParamSchema& Add(ParamSpec s);
+
   const std::vector<ParamSpec>& specs() const { return specs_; }
   const ParamSpec* Find(const std::string& name) const;
 
  private:
-  ParamSchema& Add(ParamSpec s);
   std::vector<ParamSpec> specs_;
 };
 

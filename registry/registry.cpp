@@ -11,6 +11,17 @@ void Registry::Register(StageInfo info) {
     throw Error("stage '" + info.name + "' registered twice: by " + old->origin + " and by " +
                 info.origin);
   }
+  // Every stage the factory makes carries its declaration, so Stage::Run
+  // checks the contract however the stage was made. The copy it points to
+  // lives as long as any copy of the factory (registries may be copied).
+  auto contract = std::make_shared<StageInfo>(info);
+  contract->factory = nullptr;
+  info.factory = [inner = std::move(info.factory), contract](const ParamMap& p) {
+    std::unique_ptr<Stage> s = inner(p);
+    if (!s) throw Error("stage '" + contract->name + "': its factory made no stage");
+    s->set_info(contract.get());
+    return s;
+  };
   stages_.push_back(std::move(info));
 }
 
@@ -102,7 +113,56 @@ ParamMap Registry::Resolve(const std::string& stage, const ParamMap& given) cons
     }
     out.Set(spec.name, std::move(v));
   }
+  if (info.check) {
+    try {
+      info.check(out);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const std::exception& e) {
+      const std::string what = e.what();
+      const bool named = what.compare(0, stage.size() + 1, stage + ".") == 0 ||
+                         what.compare(0, stage.size() + 1, stage + ":") == 0;
+      throw OptionError(named ? what : stage + "." + what);
+    }
+  }
   return out;
+}
+
+std::string Registry::WritersOf(Slots slots, int dim) const {
+  std::string out;
+  for (const StageInfo* w : List()) {
+    if (!w->declared) continue;
+    bool writes_one = false;
+    for (Slot s : kAllSlots) writes_one |= slots.Has(s) && w->writes.Has(s);
+    if (writes_one && (dim == 0 || (w->dims & (dim == 2 ? k2D : k3D)))) out += (out.empty() ? "" : ", ") + w->name;
+  }
+  return out;
+}
+
+std::unique_ptr<Stage> Registry::Create(const StageSpec& spec) const { return Get(spec.stage).factory(spec.params); }
+
+void Registry::CheckPipeline(const std::vector<std::string>& stages, Slots start, int dim,
+                             const std::function<std::string(std::size_t)>& where) const {
+  Slots have = start;
+  for (std::size_t i = 0; i < stages.size(); ++i) {
+    const StageInfo& info = Get(stages[i]);
+    if (!info.declared) return;  // says nothing of its flow: nothing after it can be checked
+    auto fail = [&](const std::string& what) {
+      const std::string w = where ? where(i) : "";
+      throw Error((w.empty() ? "" : w + ": ") + "stage '" + info.name + "' " + what);
+    };
+    const Slots missing = info.reads.Without(have);
+    if (!missing.Empty()) {
+      const std::string writers = WritersOf(missing, dim);
+      fail("needs " + missing.Text() + ", which " +
+           (i == 0 ? std::string("the dataset item does not give") : "neither the dataset item nor the stages before it give") +
+           " (the case has " + have.Text() + " there)" +
+           (writers.empty() ? "" : "; put one of these before it: " + writers));
+    }
+    if (dim != 0 && !(info.dims & (dim == 2 ? k2D : k3D)))
+      fail("works on " + DimsText(info.dims) + " data, but this pipeline is " + std::to_string(dim) + "D");
+    have = have | info.writes;
+  }
 }
 
 void RegisterFunctionStage(Registry& r, const std::string& name, Role role, const std::string& doc,

@@ -2,6 +2,8 @@
 
 #include "registry/registry.h"
 
+#include <chrono>
+
 namespace arcs {
 
 namespace {
@@ -37,6 +39,50 @@ Role ParseRole(const std::string& name) {
   throw Error("unknown role '" + name + "'");
 }
 
+const char* SlotName(Slot s) {
+  switch (s) {
+    case Slot::kReference: return "reference";
+    case Slot::kSamples: return "samples";
+    case Slot::kFreePoints: return "free_points";
+    case Slot::kPoints: return "points";
+    case Slot::kOutput: return "output";
+    case Slot::kVolume: return "volume";
+  }
+  return "?";
+}
+
+std::string Slots::Text() const {
+  std::string out;
+  for (Slot s : kAllSlots)
+    if (Has(s)) out += (out.empty() ? "" : ", ") + std::string(SlotName(s));
+  return out.empty() ? "nothing" : out;
+}
+
+std::string DimsText(unsigned dims) {
+  if ((dims & kAnyDim) == kAnyDim) return "2D and 3D";
+  if (dims & k2D) return "2D";
+  if (dims & k3D) return "3D";
+  return "no dimension";
+}
+
+Slots CaseData::Present() const {
+  Slots s;
+  if (reference || reference_curve) s = s | Slots{Slot::kReference};
+  if (samples) s = s | Slots{Slot::kSamples};
+  if (free_points) s = s | Slots{Slot::kFreePoints};
+  if (points) s = s | Slots{Slot::kPoints};
+  if (output || output_curve) s = s | Slots{Slot::kOutput};
+  if (volume) s = s | Slots{Slot::kVolume};
+  return s;
+}
+
+int CaseData::Dim() const {
+  if (samples) return samples->dim;
+  if (reference_curve || output_curve) return 2;
+  if (reference || output || volume) return 3;
+  return 0;
+}
+
 void CaseData::SetMetric(const std::string& name, double v) {
   for (auto& [k, val] : metrics) {
     if (k == name) {
@@ -62,23 +108,75 @@ const Mesh& CaseData::RequireOutput(const std::string& stage) const {
   return *output;
 }
 
+namespace {
+// "NAME: what", unless `what` already starts with "NAME:".
+std::string Prefixed(const std::string& name, const std::string& what) {
+  if (what.compare(0, name.size() + 1, name + ":") == 0) return what;
+  return name + ": " + what;
+}
+}  // namespace
+
+void Stage::Run(Context& ctx, CaseData& data) {
+  ctx.CheckStop();
+  if (!info_) {
+    Execute(ctx, data);
+    return;
+  }
+  const std::string& name = info_->name;
+  const Slots missing = info_->reads.Without(data.Present());
+  if (!missing.Empty()) {
+    const std::string writers = data.registry ? data.registry->WritersOf(missing, data.Dim()) : "";
+    throw Error(name + ": needs " + missing.Text() + ", which this case does not have" +
+                (writers.empty() ? "" : "; put one of these before it: " + writers));
+  }
+  const int dim = data.Dim();
+  if (dim != 0 && !(info_->dims & (dim == 2 ? k2D : k3D)))
+    throw Error(name + ": works on " + DimsText(info_->dims) + " data, but this case is " + std::to_string(dim) + "D");
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    Execute(ctx, data);
+  } catch (const Cancelled&) {
+    throw;
+  } catch (const InputError& e) {
+    throw InputError("", 0, Prefixed(name, e.what()));  // keeps its type: the message says FILE:LINE
+  } catch (const OptionError& e) {
+    throw OptionError(Prefixed(name, e.what()));
+  } catch (const std::exception& e) {
+    throw Error(Prefixed(name, e.what()));
+  }
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  data.stage_seconds.emplace_back(name, s);
+  ctx.Log(LogLevel::kDebug, name + ": " + std::to_string(s) + " s");
+}
+
 void RunNestedStage(const StageSpec& spec, Context& ctx, CaseData& data) {
   if (!data.registry) throw Error("internal: nested stage '" + spec.stage + "' needs the case's registry");
-  auto stage = data.registry->Get(spec.stage).factory(spec.params);
-  stage->Run(ctx, data);
+  data.registry->Create(spec)->Run(ctx, data);
 }
 
 namespace {
 class FnStage : public Stage {
  public:
   FnStage(StageFn fn, ParamMap p) : fn_(std::move(fn)), params_(std::move(p)) {}
-  void Run(Context& ctx, CaseData& data) override { fn_(ctx, data, params_); }
+  void Execute(Context& ctx, CaseData& data) override { fn_(ctx, data, params_); }
 
  private:
   StageFn fn_;
   ParamMap params_;
 };
 }  // namespace
+
+StageInfo DeclareStage(std::string name, Role role, std::string doc, Slots reads, Slots writes, unsigned dims) {
+  StageInfo s;
+  s.name = std::move(name);
+  s.role = role;
+  s.doc = std::move(doc);
+  s.reads = reads;
+  s.writes = writes;
+  s.dims = dims;
+  s.declared = true;
+  return s;
+}
 
 StageFactory FunctionStage(StageFn fn) {
   return [fn = std::move(fn)](const ParamMap& p) -> std::unique_ptr<Stage> {

@@ -310,12 +310,16 @@ std::vector<int> DrawBatch(std::int64_t n, std::int64_t b, Rng& rng) {
   return idx;
 }
 
-void ArcProjectorOptions::Check() const {
+void FeasibleSearchOptions::Check() const {
   ARCS_CHECK_OPTION(local_search_iters >= 0 && local_search_iters <= 10000, "local_search_iters",
                     local_search_iters, "in [0, 10000]");
   ARCS_CHECK_OPTION(local_searches >= 0 && local_searches <= 100000, "local_searches", local_searches,
                     "in [0, 100000] (0 = ceil(2 N^(1/d)))");
   ARCS_CHECK_OPTION(tol >= 0.0 && tol < 0.1, "tol", tol, "in [0, 0.1)");
+}
+
+void ArcProjectorOptions::Check() const {
+  search.Check();
   ARCS_CHECK_OPTION(batch_size >= 0, "batch_size", batch_size, ">= 0 (0 = all spheres)");
   SignSplitOptions{zero_radius}.Check();
 }
@@ -333,13 +337,13 @@ ArcProjection ProjectToArcs(const SdfSamples& samples, const FreeSpaceSamples& f
   ArcProjection result;
   ArcProjectorStats& st = result.stats;
   st.zero = sp.num_zero;
-  st.k_search = o.local_searches > 0 ? o.local_searches : LocalSearchHeuristic(sp.num_samples, dim);
+  st.k_search = o.search.local_searches > 0 ? o.search.local_searches : LocalSearchHeuristic(sp.num_samples, dim);
   MakeFeasibleOptions mf;
   mf.dim = dim;
-  mf.iterations = o.local_search_iters;
+  mf.iterations = o.search.local_search_iters;
   mf.k_search = st.k_search;
-  mf.tol = o.tol;
-  mf.pair_choice = o.pair_choice;
+  mf.tol = o.search.tol;
+  mf.pair_choice = o.search.pair_choice;
   mf.Check();
 
   // Per sample: the unit-frame point, and its fate (0 none, 1 feasible at

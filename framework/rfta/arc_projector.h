@@ -9,6 +9,8 @@
 // [0,1]^d units, as in the official code); ProjectToArcs maps its output back.
 #pragma once
 
+#include "framework/util/enum_names.h"
+
 #include "framework/context.h"
 #include "framework/rfta/sphere_set.h"
 #include "framework/rfta/sphere_tree.h"
@@ -26,6 +28,18 @@ namespace arcs {
 enum class PairChoice {
   kFirst,    // the official code: pairs in order of radius, first pair with an admissible candidate
   kClosest,  // the paper's Alg. 2 line 13: the admissible candidate closest to x over all pairs
+};
+inline constexpr EnumName<PairChoice> kPairChoiceNames[] = {{PairChoice::kClosest, "closest"},
+                                                            {PairChoice::kFirst, "first"}};
+
+// The settings of Algorithm 2 (make feasible) that the arc projector and the
+// fine-tuner share, declared once (one option group, registry/bind.h).
+struct FeasibleSearchOptions {
+  int local_search_iters = 20;  // make-feasible steps per point (paper Alg. 2: 20)
+  int local_searches = 0;       // k_search: containing spheres gathered per step; 0 = ceil(2 N^(1/d)) (paper §4.1)
+  double tol = 1e-4;            // containment / tangency tolerance in [0,1]^d units (official tol)
+  PairChoice pair_choice = PairChoice::kClosest;  // candidate rule for >= 2 containing spheres (paper Alg. 2; official: kFirst)
+  void Check() const;
 };
 
 // Options of one make-feasible run (Algorithm 2).
@@ -60,11 +74,8 @@ bool MakeFeasible(const SphereTree& constraints, const Vec3& center, double radi
 std::vector<int> DrawBatch(std::int64_t n, std::int64_t b, Rng& rng);
 
 struct ArcProjectorOptions {
-  int local_search_iters = 20;    // make-feasible steps (paper Alg. 2: 20)
-  int local_searches = 0;         // k_search; 0 = ceil(2 N^(1/d)), N = number of samples (paper §4.1)
-  double tol = 1e-4;              // containment / tangency tolerance in [0,1]^d units (official tol)
+  FeasibleSearchOptions search;     // Alg. 2 settings (shared with FineTuneOptions)
   std::int64_t batch_size = 10000;  // b: constraint spheres per sign, drawn without replacement when there are more (paper §4.2; 0 = all)
-  PairChoice pair_choice = PairChoice::kClosest;  // candidate rule for >= 2 containing spheres (paper Alg. 2; official: kFirst)
   double zero_radius = 1e-12;     // |s| / scale <= this: no sphere, no point (see SignSplitOptions)
   void Check() const;
 };

@@ -16,15 +16,15 @@
 namespace arcs {
 
 void FineTuneOptions::Check() const {
-  ARCS_CHECK_OPTION(iterations >= 0, "fine_tune.iterations", iterations, ">= 0");
-  ARCS_CHECK_OPTION(max_points_per_sphere >= 1, "fine_tune.max_points_per_sphere", max_points_per_sphere, ">= 1");
-  ARCS_CHECK_OPTION(batch_size >= 0, "fine_tune.batch_size", batch_size, ">= 0 (0 = all spheres)");
-  ARCS_CHECK_OPTION(tau > 0 && tau < 1, "fine_tune.tau", tau, "in (0, 1)");
-  ARCS_CHECK_OPTION(halvings >= 0 && halvings <= 60, "fine_tune.halvings", halvings, "in [0, 60]");
-  ARCS_CHECK_OPTION(severe_ratio > 0 && severe_ratio <= 1, "fine_tune.severe_ratio", severe_ratio, "in (0, 1]");
-  ARCS_CHECK_OPTION(local_search_iters >= 0, "fine_tune.local_search_iters", local_search_iters, ">= 0");
-  ARCS_CHECK_OPTION(local_searches >= 0, "fine_tune.local_searches", local_searches, ">= 0 (0 = heuristic)");
-  ARCS_CHECK_OPTION(tol >= 0 && tol < 0.1, "fine_tune.tol", tol, "in [0, 0.1)");
+  ARCS_CHECK_OPTION(iterations >= 0 && iterations <= 10000, "iterations", iterations, "in [0, 10000]");
+  ARCS_CHECK_OPTION(max_points_per_sphere >= 1 && max_points_per_sphere <= 1000, "max_points_per_sphere",
+                    max_points_per_sphere, "in [1, 1000]");
+  ARCS_CHECK_OPTION(batch_size >= 0 && batch_size <= 1000000000, "batch_size", batch_size,
+                    "in [0, 1e9] (0 = all spheres)");
+  ARCS_CHECK_OPTION(tau > 0 && tau < 1, "tau", tau, "in (0, 1)");
+  ARCS_CHECK_OPTION(halvings >= 0 && halvings <= 60, "halvings", halvings, "in [0, 60]");
+  ARCS_CHECK_OPTION(severe_ratio > 0 && severe_ratio <= 1, "severe_ratio", severe_ratio, "in (0, 1]");
+  search.Check();
 }
 
 namespace {
@@ -164,10 +164,10 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
 
   MakeFeasibleOptions mf;
   mf.dim = samples.dim;
-  mf.iterations = options.local_search_iters;
-  mf.k_search = options.local_searches > 0 ? options.local_searches : LocalSearchHeuristic(split.num_samples, samples.dim);
-  mf.tol = options.tol;
-  mf.pair_choice = options.pair_choice;
+  mf.iterations = options.search.local_search_iters;
+  mf.k_search = options.search.local_searches > 0 ? options.search.local_searches : LocalSearchHeuristic(split.num_samples, samples.dim);
+  mf.tol = options.search.tol;
+  mf.pair_choice = options.search.pair_choice;
   const double local_radius = 2.0 / SamplesPerAxis(split.num_samples, samples.dim);
   std::vector<int> ids(ns);  // sphere trees name the spheres by their index
   for (int g = 0; g < ns; ++g) ids[g] = g;
@@ -258,7 +258,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         if (!all.wants_point[g]) continue;
         const Vec3 c = all.centers.row(g).transpose();
         const double r = all.radii[g];
-        const SphereTree::LocalSet* local = LocalFor(tree, c, r, local_radius, options.tol, &local_set);
+        const SphereTree::LocalSet* local = LocalFor(tree, c, r, local_radius, options.search.tol, &local_set);
         const double d = std::sqrt(sqd[g]);
         // proj_onto(): the side flips when the surface puts the centre on the wrong side.
         const double sigma = (all.sign[g] < 0 ? -1.0 : 1.0) * (w[g] > 0.5 ? -1.0 : 1.0);
@@ -278,7 +278,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           return best;
         };
         auto transport = [&](const Vec3& p, const Vec3& target) {
-          return Transport(p, target, c, r, options.tau, options.halvings, tree, options.tol, g,
+          return Transport(p, target, c, r, options.tau, options.halvings, tree, options.search.tol, g,
                            options.jump_when_blocked, local, samples.dim);
         };
         // A sphere without a point gets q if feasible ("second chance");
@@ -294,10 +294,10 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           cand.push_back(transport(mine[k0], q));
           return k0;
         };
-        if (r <= options.tol) {
+        if (r <= options.search.tol) {
           kind[g] = 3;
           cand = mine;
-        } else if (d < r - options.tol) {  // the surface cuts into the sphere
+        } else if (d < r - options.search.tol) {  // the surface cuts into the sphere
           kind[g] = 1;
           second_chance_or_move_closest();
           if (!mine.empty()) {
@@ -320,7 +320,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
               for (size_t k = 0; k < keep; ++k) cand.push_back(moved[k].second);
             }
           }
-        } else if (d > r + options.tol) {  // the surface misses the sphere
+        } else if (d > r + options.search.tol) {  // the surface misses the sphere
           kind[g] = 2;
           const size_t k0 = second_chance_or_move_closest();
           if (!mine.empty()) {
@@ -375,11 +375,11 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         if (pts[g].empty()) continue;
         const Vec3 c = all.centers.row(g).transpose();
         const double r = all.radii[g];
-        const SphereTree::LocalSet* local = LocalFor(full, c, r, local_radius, options.tol, &local_set);
+        const SphereTree::LocalSet* local = LocalFor(full, c, r, local_radius, options.search.tol, &local_set);
         std::vector<Vec3> keep;
         keep.reserve(pts[g].size());
         for (Vec3 x : pts[g]) {
-          if (!full.AnyContains(x, -options.tol, g, local)) {
+          if (!full.AnyContains(x, -options.search.tol, g, local)) {
             keep.push_back(x);
             continue;
           }

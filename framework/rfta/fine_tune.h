@@ -37,10 +37,7 @@ struct FineTuneOptions {
   double tau = 1e-2;                // geodesic step towards the target, unit frame (paper §4.2: τ = 10^-2)
   int halvings = 20;                // τ halvings before giving up a move (official line_search_iters)
   double severe_ratio = 0.8;        // |t_i| < ratio |s_i|: severe intersection, the point count may grow (paper: 4/5)
-  int local_search_iters = 20;      // make-feasible steps (Alg. 2)
-  int local_searches = 0;           // k_search; 0 = ceil(2 N^(1/d))
-  double tol = 1e-4;                // containment / tangency tolerance, unit frame (official tol)
-  PairChoice pair_choice = PairChoice::kClosest;  // Alg. 2 candidate rule
+  FeasibleSearchOptions search;     // Alg. 2 settings and tol (shared with ArcProjectorOptions)
   double zero_radius = 1e-12;       // |s|/scale <= this: no sphere
   // When no halving of the step gives a feasible point: true = jump to the
   // target and let Alg. 2 repair it (the official code); false = stay put
@@ -56,6 +53,8 @@ struct FineTuneOptions {
   // Alg. 2 against all spheres, dropping the points it cannot fix; kDrop:
   // drop them; kOff: keep them (the paper's algorithm as written).
   enum class FinalCheck { kOff, kDrop, kRepair };
+  static constexpr EnumName<FinalCheck> kFinalCheckNames[] = {
+      {FinalCheck::kOff, "off"}, {FinalCheck::kDrop, "drop"}, {FinalCheck::kRepair, "repair"}};
   FinalCheck final_check = FinalCheck::kOff;
   void Check() const;
 };

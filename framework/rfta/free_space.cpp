@@ -510,7 +510,7 @@ FreeSpaceSamples RasterizeFreeSpace(const SdfSamples& samples, const RasterizeOp
 // Rejection sampling.
 
 void RejectionOptions::Check() const {
-  ARCS_CHECK_OPTION(count >= 1, "count", count, ">= 1");
+  ARCS_CHECK_OPTION(count >= 1 && count <= 1000000000, "count", count, "in [1, 1e9]");
   ARCS_CHECK_OPTION(shrink > 0.0 && shrink <= 1.0, "shrink", shrink, "in (0, 1]");
   ARCS_CHECK_OPTION(max_draws >= count, "max_draws", max_draws, ">= count");
 }
@@ -582,7 +582,7 @@ FreeSpaceSamples RejectionFreeSpace(const SdfSamples& samples, const RejectionOp
 // Metropolis–Hastings.
 
 void MetropolisOptions::Check() const {
-  ARCS_CHECK_OPTION(count >= 1, "count", count, ">= 1");
+  ARCS_CHECK_OPTION(count >= 1 && count <= 1000000000, "count", count, "in [1, 1e9]");
   ARCS_CHECK_OPTION(shrink > 0.0 && shrink <= 1.0, "shrink", shrink, "in (0, 1]");
   ARCS_CHECK_OPTION(sigma >= 0.0 && sigma <= 1.0, "sigma", sigma, "in [0, 1] (0 = a quarter sample spacing)");
   ARCS_CHECK_OPTION(step >= 0.0 && step <= 1.0, "step", step, "in [0, 1] (0 = sigma)");

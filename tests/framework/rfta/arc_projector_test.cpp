@@ -94,7 +94,7 @@ TEST(ArcProjector, PairChoiceFirstKeepsFeasiblePoints) {
   Context ctx(2);
   const FreeSpaceSamples f = RasterizeFreeSpace(s, RasterizeOptions(), ctx);
   ArcProjectorOptions o;
-  o.pair_choice = PairChoice::kFirst;
+  o.search.pair_choice = PairChoice::kFirst;
   const ArcProjection a = ProjectToArcs(s, f, o, ctx);
   EXPECT_LE(a.stats.dropped, s.Size() / 20);
   const Checked c = CheckProjection(s, a, 0.27, 1e-4);
@@ -229,7 +229,7 @@ TEST(ArcProjector, BadInputsThrow) {
   bad_signs.sign.pop_back();
   EXPECT_THROW(ProjectToArcs(s, bad_signs, ArcProjectorOptions(), ctx), Error);
   ArcProjectorOptions o;
-  o.tol = -1.0;
+  o.search.tol = -1.0;
   EXPECT_THROW(ProjectToArcs(s, f, o, ctx), OptionError);
 }
 
