@@ -27,8 +27,12 @@
 
 // Bump on any change to Registry, StageInfo, Stage, CaseData, ParamMap or
 // the framework types that a plugin may touch.
+//   1: the first.
+//   2: the stage contract: Stage::Run is not virtual (a Stage subclass
+//      overrides Execute); StageInfo declares reads/writes/dims/check;
+//      CaseData::stage_seconds; the parameter binder (registry/bind.h).
 #ifndef ARCS_PLUGIN_API_VERSION
-#define ARCS_PLUGIN_API_VERSION 1
+#define ARCS_PLUGIN_API_VERSION 2
 #endif
 
 extern "C" {
