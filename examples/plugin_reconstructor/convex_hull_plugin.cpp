@@ -8,6 +8,7 @@
 // lists): start from a non-degenerate tetrahedron, insert each point outside
 // the current hull by removing the faces it sees and coning the horizon to
 // it. O(n * #faces); fine for clouds of a few 10k points.
+#include "registry/bind.h"
 #include "registry/plugin_api.h"
 
 #include <Eigen/Geometry>
@@ -121,19 +122,31 @@ Mesh ConvexHull(const arcs::MatrixX3d& P, double rel_eps) {
   return m;
 }
 
+struct HullOptions {
+  double epsilon = 1e-10;  // visibility tolerance, relative to the bounding-box diagonal
+  void Check() const {
+    ARCS_CHECK_OPTION(epsilon >= 0.0 && epsilon <= 1e-2, "epsilon", epsilon, "in [0, 0.01]");
+  }
+};
+
+// The stage body: the contract (reads points, writes output) guarantees d.points.
+void RunConvexHull(arcs::Context&, arcs::CaseData& d, const HullOptions& o, const arcs::ParamMap&) {
+  if (d.points->Size() == 0) throw arcs::Error("the point cloud is empty");
+  d.output = ConvexHull(d.points->P, o.epsilon);
+  d.SetMetric("hull_vertices", d.output->NumVertices());
+}
+
 void Register(arcs::Registry& r) {
-  arcs::StageInfo s;
-  s.name = "convex_hull";
-  s.role = arcs::Role::kReconstructor;
-  s.doc = "convex hull of the points (out-of-tree example plugin; normals unused)";
-  s.params.Double("epsilon", 1e-10, "visibility tolerance, relative to the bounding-box diagonal", 0.0, 1e-2);
+  arcs::StageInfo s = arcs::DeclareStage("convex_hull", arcs::Role::kReconstructor,
+                                         "convex hull of the points (out-of-tree example plugin; normals unused)",
+                                         {arcs::Slot::kPoints}, {arcs::Slot::kOutput}, arcs::k3D);
+  arcs::BindStage<HullOptions>(
+      s,
+      arcs::Binder<HullOptions>().Double("epsilon", &HullOptions::epsilon,
+                                         "visibility tolerance, relative to the bounding-box diagonal",
+                                         arcs::Closed(0.0, 1e-2)),
+      RunConvexHull);
   s.outputs = {"hull_vertices"};
-  s.factory = arcs::FunctionStage([](arcs::Context& ctx, arcs::CaseData& d, const arcs::ParamMap& p) {
-    if (!d.points || d.points->Size() == 0)
-      throw arcs::Error("convex_hull needs a point cloud (kind: points dataset or a point_sampler)");
-    d.output = ConvexHull(d.points->P, p.GetDouble("epsilon"));
-    d.SetMetric("hull_vertices", d.output->NumVertices());
-  });
   r.Register(std::move(s));
 }
 
