@@ -9,40 +9,10 @@ namespace arcs {
 // self-registration, which static linking can silently drop).
 void RegisterBuiltinStages(Registry& registry);
 
-// Per-family registration functions (each in its own translation unit).
-void RegisterSdfGrid(Registry& r);
-void RegisterSdfRandom(Registry& r);
-void RegisterSdfFile(Registry& r);
-void RegisterSdfNoise(Registry& r);
-void RegisterSdfClamp(Registry& r);
-void RegisterSdfSweep(Registry& r);
-void RegisterMarchingCubes(Registry& r);
-void RegisterRfts(Registry& r);  // Reach for the Spheres (stages/baseline/rfts.cpp)
-// SDF -> mesh baselines beside MC (stages/baseline/; framework/sdfmesh/).
-void RegisterDualContouring(Registry& r);
-void RegisterDcsdd(Registry& r);
-void RegisterVdbMesher(Registry& r);
-void RegisterPowerDiagram(Registry& r);
-void RegisterEvalStages(Registry& r);
-// Surface reconstructors (oriented points -> mesh; stages/reconstruct/).
-void RegisterScreenedPoisson(Registry& r);
-// RFTA: empty-space samplers and the arc projector (stages/rfta/).
-void RegisterRasterize(Registry& r);
-void RegisterRejection(Registry& r);
-void RegisterMetropolisHastings(Registry& r);
-void RegisterArcProjector(Registry& r);
-// RFTA: fine-tuning and the whole method as one stage (stages/rfta/).
-void RegisterFineTune(Registry& r);
-void RegisterRfta(Registry& r);
-// Winding-number voxelization and mesh morphing (stages/voxel/).
-void RegisterVoxelStages(Registry& r);
-void RegisterMorphStages(Registry& r);
-// Point clouds: inputs (sampling, noise, normal estimation) and the
-// point-cloud reconstructors (stages/points/).
-void RegisterPointInputStages(Registry& r);
-void RegisterGraphVoronoi(Registry& r);
-void RegisterPointReconstructors(Registry& r);
-// The 2D path of Reach for the Arcs (stages/planar/).
-void RegisterPlanarStages(Registry& r);
+// The per-family registration functions, one line each in
+// stages/builtin_list.h (each defined in its own translation unit).
+#define ARCS_BUILTIN_STAGE(fn) void fn(Registry& r);
+#include "stages/builtin_list.h"
+#undef ARCS_BUILTIN_STAGE
 
 }  // namespace arcs
