@@ -34,7 +34,11 @@ void RegisterBuiltinStages(Registry& r) {
   RegisterVoxelStages(r);
   RegisterMorphStages(r);
   // 2D.
-  RegisterPlanarStages(r);
+  RegisterSdfGrid2D(r);
+  RegisterSdfRandom2D(r);
+  RegisterMarchingSquares(r);
+  RegisterScreenedPoisson2D(r);
+  RegisterEvalStages2D(r);
   // Evaluators.
   RegisterEvalStages(r);
 }

@@ -42,7 +42,12 @@ void RegisterMorphStages(Registry& r);
 void RegisterPointInputStages(Registry& r);
 void RegisterGraphVoronoi(Registry& r);
 void RegisterPointReconstructors(Registry& r);
-// The 2D path of Reach for the Arcs (stages/planar/).
-void RegisterPlanarStages(Registry& r);
+// 2D twins, each beside its 3D sibling (the 2D path of Reach for the Arcs;
+// 2D RFTA is the `rfta` stage on dim-2 samples).
+void RegisterSdfGrid2D(Registry& r);            // stages/sdf/sdf_grid_2d.cpp
+void RegisterSdfRandom2D(Registry& r);          // stages/sdf/sdf_random_2d.cpp
+void RegisterMarchingSquares(Registry& r);      // stages/baseline/marching_squares.cpp
+void RegisterScreenedPoisson2D(Registry& r);    // stages/reconstruct/screened_poisson_2d.cpp
+void RegisterEvalStages2D(Registry& r);         // stages/eval/eval_stages_2d.cpp
 
 }  // namespace arcs

@@ -4,12 +4,12 @@
 // explicit pipeline give the same result. Writes the time of each part.
 // On 2D samples (dim 2) it writes CaseData::output_curve: the reconstructors
 // `screened_poisson` (the 3D default, final and tuning) become
-// `screened_poisson_2d` with its defaults (stages/planar/planar.h); a
+// `screened_poisson_2d` with its defaults (stages/reconstruct/screened_poisson_2d.h); a
 // configured 2D reconstructor is used as given.
 #include "framework/rfta/sphere_set.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
-#include "stages/planar/planar.h"
+#include "stages/reconstruct/screened_poisson_2d.h"
 
 #include <chrono>
 

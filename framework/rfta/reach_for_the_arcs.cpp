@@ -1,8 +1,8 @@
-#include "framework/planar/rfta2d.h"
+#include "framework/rfta/reach_for_the_arcs.h"
 
 #include "framework/error.h"
-#include "framework/planar/polyline_query.h"
 #include "framework/rfta/sphere_set.h"
+#include "framework/spatial/polyline_query.h"
 
 namespace arcs {
 

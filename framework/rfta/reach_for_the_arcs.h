@@ -6,7 +6,7 @@
 #pragma once
 
 #include "framework/context.h"
-#include "framework/planar/poisson2d.h"
+#include "framework/reconstruct/poisson2d.h"
 #include "framework/rfta/arc_projector.h"
 #include "framework/rfta/fine_tune.h"
 #include "framework/rfta/free_space.h"

@@ -1,11 +1,11 @@
 // Reach for the Arcs in 2D (paper Fig. 5): on exact SDF grids of a circle and
 // the star at n = 20 it must beat marching squares on the paper's Chamfer;
 // fine-tuning is deterministic across thread counts; bad samples fail clearly.
+#include "framework/eval/curve_metrics.h"
+#include "framework/geometry/curves.h"
 #include "framework/geometry/marching_cubes.h"
-#include "framework/planar/curve_metrics.h"
-#include "framework/planar/curves.h"
-#include "framework/planar/rfta2d.h"
-#include "framework/planar/sdf2d.h"
+#include "framework/rfta/reach_for_the_arcs.h"
+#include "framework/sdf/sdf2d.h"
 #include "framework/util/parallel.h"
 
 #include <gtest/gtest.h>
