@@ -2,67 +2,143 @@
 
 #include "framework/error.h"
 #include "framework/rfta/sphere_set.h"
-#include "framework/spatial/polyline_query.h"
+
+#include <chrono>
+#include <string>
 
 namespace arcs {
 
+void RftaOptions::Check() const {
+  raster.Check();
+  projector.Check();
+  fine_tune.Check();
+  poisson.Check();
+  tuning_poisson.Check();
+  poisson_2d.Check();
+  tuning_poisson_2d.Check();
+}
+
+SurfaceReconstructor DefaultRftaReconstructor(int dim, const RftaOptions& options, bool tuning, const Context& ctx) {
+  if (dim == 2) {
+    const Poisson2DOptions o = tuning ? options.tuning_poisson_2d : options.poisson_2d;
+    return [o, &ctx](const PointCloud& pc) -> Surface { return ReconstructPoisson2D(pc, o, ctx); };
+  }
+  const PoissonOptions o = tuning ? options.tuning_poisson : options.poisson;
+  return [o, &ctx](const PointCloud& pc) -> Surface {
+    PoissonOptions r = o;
+    r.Check();
+    if (r.depth == 0) r.depth = AutoPoissonDepth(pc, r);
+    return ReconstructPoisson(pc, r, ctx);
+  };
+}
+
 namespace {
 
-class PolylineTuningSurface final : public TuningSurface {
- public:
-  explicit PolylineTuningSurface(Polyline c) : curve_(std::move(c)) {}
-  void Prepare() override { bvh_ = std::make_unique<SegmentBvh>(curve_); }
-  void ClosestPoints(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d* points) const override {
-    bvh_->ClosestPoints(Q, sq_dist, points);
-  }
-  double Closest(const Vec3& q, Vec3* point) const override {
-    const SegmentBvh::Hit h = bvh_->Closest(q);
-    *point = h.point;
-    return h.sq_dist;
-  }
-  VectorXd WindingNumbers(const MatrixX3d& Q) const override { return WindingNumbers2D(curve_, Q); }
+using Clock = std::chrono::steady_clock;
+double Since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
- private:
-  Polyline curve_;
-  std::unique_ptr<SegmentBvh> bvh_;
-};
+// The sign check before any work (paper §3: the spheres of an SDF never
+// overlap across the surface).
+void CheckSigns(const SdfSamples& samples, const RftaOptions& options, const RftaParts& parts, RftaResult* r,
+                const Context& ctx) {
+  CheckRftaSamples(samples, "rfta");
+  const SignedSpheres spheres = SplitSpheresBySign(samples, SignSplitOptions{});
+  RequireBothSigns(spheres, "rfta");
+  double depth = 0;
+  r->sign_conflicts = CountSignConflicts(spheres, 1e-4, &depth);
+  r->sign_conflict_depth = depth * spheres.frame.scale;
+  if (parts.after) parts.after(RftaPart::kSignCheck, *r);
+  using Policy = RftaOptions::OnSignConflict;
+  if (r->sign_conflicts == 0 || options.on_sign_conflict == Policy::kIgnore) return;
+  const std::string msg = "rfta: " + std::to_string(r->sign_conflicts) + " of " +
+                          std::to_string(spheres.positive.Size()) + " outside spheres overlap inside spheres (deepest overlap " +
+                          std::to_string(r->sign_conflict_depth) + "): the samples are not a consistent SDF";
+  if (options.on_sign_conflict == Policy::kError) throw Error(msg);
+  // Noisy SDFs have some conflicts; when most outside spheres conflict the
+  // samples are no SDF at all (e.g. mesh distances signed by an open-mesh
+  // shell) and RFTA would spend minutes on nothing.
+  if (2 * r->sign_conflicts > spheres.positive.Size())
+    throw Error(msg + "; more than half of the outside spheres conflict: refused "
+                      "(on_sign_conflict: ignore goes on anyway)");
+  ctx.Warn(msg + "; going on (set on_sign_conflict: error to refuse such input)");
+}
 
 }  // namespace
 
-std::unique_ptr<TuningSurface> MakePolylineTuningSurface(Polyline unit_frame_curve) {
-  return std::make_unique<PolylineTuningSurface>(std::move(unit_frame_curve));
-}
-
-FineTuneResult FineTune2D(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
-                          const PointsToCurve& reconstruct, const FineTuneOptions& options, const Context& ctx) {
-  if (samples.dim != 2) throw Error("fine_tune (2D): the samples are " + std::to_string(samples.dim) + "D");
-  const PointsToSurface surface = [&](const PointCloud& pc,
-                                      const UnitFrame& frame) -> std::unique_ptr<TuningSurface> {
-    Polyline c = reconstruct(pc);
-    if (c.Empty()) return nullptr;
-    for (int v = 0; v < c.NumVertices(); ++v) c.V.row(v) = frame.ToUnit(c.V.row(v).transpose()).transpose();
-    c.V.col(2).setZero();  // exactly in the plane (ToUnit subtracts z = 0 translation)
-    return MakePolylineTuningSurface(std::move(c));
+RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options, const RftaParts& parts,
+                           const Context& ctx) {
+  options.Check();
+  const int dim = samples.dim;
+  RftaResult r;
+  CheckSigns(samples, options, parts, &r, ctx);
+  auto after = [&](RftaPart part) {
+    if (parts.after) parts.after(part, r);
   };
-  return FineTune(samples, initial, initial_sample, surface, options, ctx);
-}
 
-Rfta2DResult ReachForTheArcs2D(const SdfSamples& samples, const Rfta2DOptions& options, const Context& ctx) {
-  if (samples.dim != 2) throw Error("rfta 2D: the samples are " + std::to_string(samples.dim) + "D, expected 2D");
-  CheckRftaSamples(samples, "rfta");
-  RequireBothSigns(SplitSpheresBySign(samples, SignSplitOptions{}), "rfta");
-  const FreeSpaceSamples free = RasterizeFreeSpace(samples, options.raster, ctx, nullptr);
-  ArcProjection a0 = ProjectToArcs(samples, free, options.projector, ctx);
-  const PointsToCurve tuning = [&](const PointCloud& pc) { return ReconstructPoisson2D(pc, options.tuning_poisson, ctx); };
-  Rfta2DResult r;
-  r.tuning = FineTune2D(samples, a0.points, a0.sample, tuning, options.fine_tune, ctx);
+  // 1. Free-space samples of each sign (Alg. 1 line 1).
+  auto t0 = Clock::now();
+  r.free = parts.sampler ? parts.sampler(samples, ctx) : RasterizeFreeSpace(samples, options.raster, ctx, nullptr);
+  r.sampler_s = Since(t0);
+  after(RftaPart::kSampler);
+
+  // 2. The initial tangency points (lines 2-8).
+  t0 = Clock::now();
+  {
+    ArcProjection a0 = ProjectToArcs(samples, r.free, options.projector, ctx);
+    r.points = std::move(a0.points);
+    r.sample = std::move(a0.sample);
+    r.projector = a0.stats;
+  }
+  r.projector_s = Since(t0);
+  after(RftaPart::kProjector);
+
+  // 3. Fine-tuning against the tuning reconstructor's surfaces (Alg. 3).
+  t0 = Clock::now();
+  const SurfaceReconstructor tuning =
+      parts.tuning ? parts.tuning : DefaultRftaReconstructor(dim, options, /*tuning=*/true, ctx);
+  if (dim == 2) {
+    const PointsToCurve curve = [&](const PointCloud& pc) {
+      Surface s = tuning(pc);
+      if (!std::holds_alternative<Polyline>(s))
+        throw Error("rfta: the tuning reconstructor gave a mesh for 2D samples (2D samples need a 2D reconstructor, "
+                    "e.g. screened_poisson_2d)");
+      return std::get<Polyline>(std::move(s));
+    };
+    r.tuning = FineTune2D(samples, r.points, r.sample, curve, options.fine_tune, ctx);
+  } else {
+    const PointsToMesh mesh = [&](const PointCloud& pc) {
+      Surface s = tuning(pc);
+      if (!std::holds_alternative<Mesh>(s)) throw Error("rfta: the tuning reconstructor gave a 2D curve for 3D samples");
+      return std::get<Mesh>(std::move(s));
+    };
+    r.tuning = FineTune(samples, r.points, r.sample, mesh, options.fine_tune, ctx);
+  }
   r.points = std::move(r.tuning.points);
   r.sample = std::move(r.tuning.sample);
   r.tuning.points = PointCloud();
   r.tuning.sample.clear();
-  r.curve = ReconstructPoisson2D(r.points, options.poisson, ctx);
-  if (r.curve.Empty()) throw Error("rfta 2D: the final reconstruction is empty");
+  r.fine_tune_s = Since(t0);
+  after(RftaPart::kFineTune);
+
+  // 4. The final surface from the tuned points.
+  t0 = Clock::now();
+  r.surface = parts.reconstruct ? parts.reconstruct(r.points)
+                                : DefaultRftaReconstructor(dim, options, /*tuning=*/false, ctx)(r.points);
+  if (dim == 2) {
+    if (!std::holds_alternative<Polyline>(r.surface))
+      throw Error("rfta: the reconstructor gave a mesh for 2D samples (2D samples need a 2D reconstructor, "
+                  "e.g. screened_poisson_2d)");
+    if (std::get<Polyline>(r.surface).Empty()) throw Error("rfta: the final 2D reconstruction is empty");
+  } else if (!std::holds_alternative<Mesh>(r.surface)) {
+    throw Error("rfta: the reconstructor gave a 2D curve for 3D samples");
+  }
+  r.final_s = Since(t0);
+  after(RftaPart::kFinal);
   return r;
+}
+
+RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options, const Context& ctx) {
+  return ReachForTheArcs(samples, options, RftaParts{}, ctx);
 }
 
 }  // namespace arcs
