@@ -51,7 +51,8 @@ void CheckSigns(const SdfSamples& samples, const RftaOptions& options, const Rft
   using Policy = RftaOptions::OnSignConflict;
   if (r->sign_conflicts == 0 || options.on_sign_conflict == Policy::kIgnore) return;
   const std::string msg = "rfta: " + std::to_string(r->sign_conflicts) + " of " +
-                          std::to_string(spheres.positive.Size()) + " outside spheres overlap inside spheres (deepest overlap " +
+                          std::to_string(spheres.positive.Size()) +
+                          " outside spheres overlap inside spheres (deepest overlap " +
                           std::to_string(r->sign_conflict_depth) + "): the samples are not a consistent SDF";
   if (options.on_sign_conflict == Policy::kError) throw Error(msg);
   // Noisy SDFs have some conflicts; when most outside spheres conflict the
@@ -108,7 +109,8 @@ RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options
   } else {
     const PointsToMesh mesh = [&](const PointCloud& pc) {
       Surface s = tuning(pc);
-      if (!std::holds_alternative<Mesh>(s)) throw Error("rfta: the tuning reconstructor gave a 2D curve for 3D samples");
+      if (!std::holds_alternative<Mesh>(s))
+        throw Error("rfta: the tuning reconstructor gave a 2D curve for 3D samples");
       return std::get<Mesh>(std::move(s));
     };
     r.tuning = FineTune(samples, r.points, r.sample, mesh, options.fine_tune, ctx);

@@ -5,13 +5,16 @@
 
 #include "framework/reconstruct/poisson2d.h"
 #include "stages/builtin.h"
+#include "stages/twins_2d.h"
 
 namespace arcs {
 
 StageSpec PlanarReconstructorFor(const StageSpec& spec, const Registry* registry) {
   if (!registry) throw Error("rfta (2D): needs the case's registry to run its reconstructor");
-  if (spec.stage != "screened_poisson") return spec;
-  // A coarser 3D preset (depth_offset < 0, RFTA's tuning reconstructor: -3)
+  const std::string twin = TwinIn2D(spec.stage);
+  if (twin.empty()) return spec;  // a 2D (or dimension-free) reconstructor: as given
+  // The twin of screened_poisson (the only reconstructor with one): a
+  // coarser 3D preset (depth_offset < 0, RFTA's tuning reconstructor: -3)
   // becomes one power of two coarser per three octree levels.
   ParamMap given;
   if (spec.params.Has("depth_offset")) {
@@ -19,7 +22,7 @@ StageSpec PlanarReconstructorFor(const StageSpec& spec, const Registry* registry
     const std::int64_t shift = d >= 0 ? 0 : -((-d + 2) / 3);
     if (shift != 0) given.Set("resolution_shift", std::max<std::int64_t>(shift, -4));
   }
-  return StageSpec{"screened_poisson_2d", registry->Resolve("screened_poisson_2d", given)};
+  return StageSpec{twin, registry->Resolve(twin, given)};
 }
 
 void RegisterScreenedPoisson2D(Registry& r) {
