@@ -17,12 +17,17 @@
 // wall time, peak resident memory of each run (reset before it), the number
 // of samples N = (n+1)^3, and the growth exponent of the time between
 // consecutive n (1 = linear in N; N log N gives slightly above 1).
+// Both run the library's ReachForTheArcs (framework/rfta/
+// reach_for_the_arcs.h) with screened Poisson options; RFTA_BENCH_VIA=registry
+// runs the registered `rfta` stage instead (the same result, tested in
+// tests/stages/rfta_library_test.cpp).
 #include "framework/context.h"
 #include "framework/eval/metrics.h"
 #include "framework/experiment/memory.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"
+#include "framework/rfta/reach_for_the_arcs.h"
 #include "framework/sdf/sdf_sampling.h"
 #include "framework/util/parallel.h"
 #include "registry/registry.h"
@@ -45,6 +50,106 @@ struct BenchCase {
   double official_wall_s, official_chamfer;
 };
 
+// One RFTA run's output mesh and per-part wall times.
+struct Outcome {
+  Mesh mesh;
+  double sampler_s = 0, projector_s = 0, fine_tune_s = 0, psr_s = 0, final_s = 0;
+};
+
+bool ViaRegistry() {
+  const char* v = std::getenv("RFTA_BENCH_VIA");
+  return v && std::string(v) == "registry";
+}
+
+// The environment's surface overrides (see Run) as Poisson options; false if none.
+bool OfficialSurfaces(PoissonOptions* o) {
+  const char* sf = std::getenv("RFTA_BENCH_SURFACES");
+  if (!sf || std::string(sf) != "official") return false;
+  *o = PoissonOptions{};
+  o->depth = 10;
+  o->scale = 3.2;
+  o->samples_per_node = 1.5;
+  o->point_weight = std::getenv("RFTA_BENCH_WEIGHT") ? std::atof(std::getenv("RFTA_BENCH_WEIGHT")) : 10.0;
+  o->area_normalized = true;
+  o->open_retries = 0;
+  if (const char* be = std::getenv("RFTA_BENCH_BACKEND"))
+    o->backend = std::string(be) == "open3d" ? PoissonOptions::Backend::kOpen3d : PoissonOptions::Backend::kPcl;
+  return true;
+}
+
+// Through the library: no registry.
+Outcome RunLibrary(const SdfSamples& samples, int iterations, int points_per_sphere, const Context& ctx) {
+  RftaOptions o;
+  o.fine_tune.iterations = iterations;
+  o.fine_tune.max_points_per_sphere = points_per_sphere;
+  if (const char* td = std::getenv("RFTA_BENCH_TUNING_DEPTH")) {
+    o.tuning_poisson = PoissonOptions{};
+    o.tuning_poisson.depth = std::atoi(td);
+  }
+  PoissonOptions official;
+  if (OfficialSurfaces(&official)) o.poisson = o.tuning_poisson = official;
+  RftaResult r = ReachForTheArcs(samples, o, ctx);
+  Outcome out;
+  out.mesh = std::get<Mesh>(std::move(r.surface));
+  out.sampler_s = r.sampler_s;
+  out.projector_s = r.projector_s;
+  out.fine_tune_s = r.fine_tune_s;
+  for (const auto& it : r.tuning.iterations) out.psr_s += it.reconstruct_s;
+  out.final_s = r.final_s;
+  return out;
+}
+
+// Through the registered `rfta` stage (RFTA_BENCH_VIA=registry).
+Outcome RunStage(const Registry& registry, const SdfSamples& samples, int iterations, int points_per_sphere,
+                 Context& ctx) {
+  CaseData d;
+  d.registry = &registry;
+  d.samples = samples;
+  ParamMap given;
+  given.Set("iterations", static_cast<std::int64_t>(iterations));
+  given.Set("max_points_per_sphere", static_cast<std::int64_t>(points_per_sphere));
+  if (const char* td = std::getenv("RFTA_BENCH_TUNING_DEPTH")) {
+    auto spec = std::make_shared<StageSpec>();
+    spec->stage = "screened_poisson";
+    spec->params.Set("depth", static_cast<std::int64_t>(std::atoi(td)));
+    given.Set("tuning_reconstructor", spec);
+  }
+  PoissonOptions official;
+  if (OfficialSurfaces(&official)) {
+    auto spec = std::make_shared<StageSpec>();
+    spec->stage = "screened_poisson";
+    spec->params.Set("depth", static_cast<std::int64_t>(official.depth));
+    spec->params.Set("scale", official.scale);
+    spec->params.Set("samples_per_node", official.samples_per_node);
+    spec->params.Set("point_weight", official.point_weight);
+    spec->params.Set("area_normalized", official.area_normalized);
+    spec->params.Set("open_retries", static_cast<std::int64_t>(official.open_retries));
+    if (const char* be = std::getenv("RFTA_BENCH_BACKEND")) spec->params.Set("backend", std::string(be));
+    given.Set("reconstructor", spec);
+    given.Set("tuning_reconstructor", spec);
+  }
+  registry.Get("rfta").factory(registry.Resolve("rfta", given))->Run(ctx, d);
+  auto metric = [&](const char* k) {
+    for (const auto& [name, v] : d.metrics)
+      if (name == k) return v;
+    return 0.0;
+  };
+  Outcome out;
+  out.mesh = std::move(*d.output);
+  out.sampler_s = metric("rfta_sampler_s");
+  out.projector_s = metric("rfta_projector_s");
+  out.fine_tune_s = metric("rfta_fine_tune_s");
+  out.psr_s = metric("fine_tune_reconstruct_s");
+  out.final_s = metric("rfta_final_s");
+  return out;
+}
+
+Outcome RunRfta(const Registry& registry, const SdfSamples& samples, int iterations, int points_per_sphere,
+                Context& ctx) {
+  return ViaRegistry() ? RunStage(registry, samples, iterations, points_per_sphere, ctx)
+                       : RunLibrary(samples, iterations, points_per_sphere, ctx);
+}
+
 void Run(const BenchCase& bc, const Registry& registry) {
   Mesh mesh;
   if (bc.shape == "torus") {
@@ -62,49 +167,19 @@ void Run(const BenchCase& bc, const Registry& registry) {
   SdfGridOptions go;
   go.n = bc.n;
   auto t0 = std::chrono::steady_clock::now();
-  CaseData d;
-  d.registry = &registry;
-  d.samples = SampleSdfGrid(mesh, go, ctx);
+  const SdfSamples samples = SampleSdfGrid(mesh, go, ctx);
   const double sdf_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ParamMap given;
-  given.Set("iterations", static_cast<std::int64_t>(bc.iterations));
-  given.Set("max_points_per_sphere", static_cast<std::int64_t>(bc.points_per_sphere));
-  if (const char* td = std::getenv("RFTA_BENCH_TUNING_DEPTH")) {
-    auto spec = std::make_shared<StageSpec>();
-    spec->stage = "screened_poisson";
-    spec->params.Set("depth", static_cast<std::int64_t>(std::atoi(td)));
-    given.Set("tuning_reconstructor", spec);
-  }
+  // RFTA_BENCH_TUNING_DEPTH=D: screened Poisson at depth D inside fine-tuning.
   // RFTA_BENCH_SURFACES=official: both surfaces (tuning and final) as the
   // official call makes them: depth 10 in a cube 3.2x the cloud, 1.5 samples
   // per node, PoissonRecon's point weight 10 (area-normalised), no re-solves;
   // RFTA_BENCH_BACKEND=open3d: Open3D's PoissonRecon 12 (weight fixed at 2).
-  if (const char* sf = std::getenv("RFTA_BENCH_SURFACES"); sf && std::string(sf) == "official") {
-    auto spec = std::make_shared<StageSpec>();
-    spec->stage = "screened_poisson";
-    spec->params.Set("depth", std::int64_t{10});
-    spec->params.Set("scale", 3.2);
-    spec->params.Set("samples_per_node", 1.5);
-    spec->params.Set("point_weight", std::getenv("RFTA_BENCH_WEIGHT") ? std::atof(std::getenv("RFTA_BENCH_WEIGHT")) : 10.0);
-    spec->params.Set("area_normalized", true);
-    spec->params.Set("open_retries", std::int64_t{0});
-    if (const char* be = std::getenv("RFTA_BENCH_BACKEND")) spec->params.Set("backend", std::string(be));
-    given.Set("reconstructor", spec);
-    given.Set("tuning_reconstructor", spec);
-  }
-  const ParamMap params = registry.Resolve("rfta", given);
   t0 = std::chrono::steady_clock::now();
-  registry.Get("rfta").factory(params)->Run(ctx, d);
+  const Outcome o = RunRfta(registry, samples, bc.iterations, bc.points_per_sphere, ctx);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  auto metric = [&](const char* k) {
-    for (const auto& [name, v] : d.metrics)
-      if (name == k) return v;
-    return 0.0;
-  };
-  const double chamfer = ChamferPaper(*d.output, mesh, 1000000, 1);
+  const double chamfer = ChamferPaper(o.mesh, mesh, 1000000, 1);
   std::printf("%-10s %6.2f %8.2f %8.2f %9.2f %8.2f %8.2f | %8.2f %9.0f %7.1fx | %9.5f %9.5f\n", bc.name.c_str(), sdf_s,
-              metric("rfta_sampler_s"), metric("rfta_projector_s"), metric("rfta_fine_tune_s"),
-              metric("fine_tune_reconstruct_s"), metric("rfta_final_s"), total, bc.official_wall_s,
+              o.sampler_s, o.projector_s, o.fine_tune_s, o.psr_s, o.final_s, total, bc.official_wall_s,
               bc.official_wall_s / total, chamfer, bc.official_chamfer);
   std::fflush(stdout);
 }
@@ -128,25 +203,18 @@ int Scaling(const Registry& registry, const std::string& shape, int nmax) {
     Context ctx(1);
     SdfGridOptions go;
     go.n = n;
-    CaseData d;
-    d.registry = &registry;
-    d.samples = SampleSdfGrid(mesh, go, ctx);
-    const double N = static_cast<double>(d.samples->Size());
+    const SdfSamples samples = SampleSdfGrid(mesh, go, ctx);
+    const double N = static_cast<double>(samples.Size());
     ResetPeakRss();
     const auto t0 = std::chrono::steady_clock::now();
-    registry.Get("rfta").factory(registry.Resolve("rfta", ParamMap{}))->Run(ctx, d);
+    const FineTuneOptions defaults;
+    const Outcome o = RunRfta(registry, samples, defaults.iterations, defaults.max_points_per_sphere, ctx);
     const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double peak_mb = PeakRssBytes() / 1048576.0;
-    auto metric = [&](const char* k) {
-      for (const auto& [name, v] : d.metrics)
-        if (name == k) return v;
-      return 0.0;
-    };
-    const double chamfer = ChamferPaper(*d.output, mesh, 1000000, 1);
+    const double chamfer = ChamferPaper(o.mesh, mesh, 1000000, 1);
     const double expo = prev_t > 0 ? std::log(total / prev_t) / std::log(N / prev_n) : 0.0;
-    std::printf("%5d %9.0f | %8.2f %8.2f %9.2f %8.2f | %8.2f %9.0f %7.2f | %9.5f\n", n, N, metric("rfta_sampler_s"),
-                metric("rfta_projector_s"), metric("rfta_fine_tune_s"), metric("rfta_final_s"), total, peak_mb, expo,
-                chamfer);
+    std::printf("%5d %9.0f | %8.2f %8.2f %9.2f %8.2f | %8.2f %9.0f %7.2f | %9.5f\n", n, N, o.sampler_s,
+                o.projector_s, o.fine_tune_s, o.final_s, total, peak_mb, expo, chamfer);
     std::fflush(stdout);
     prev_t = total;
     prev_n = N;

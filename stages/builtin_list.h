@@ -35,7 +35,11 @@ ARCS_BUILTIN_STAGE(RegisterPointInputStages)
 // Winding-number voxelization and mesh morphing (stages/voxel/).
 ARCS_BUILTIN_STAGE(RegisterVoxelStages)
 ARCS_BUILTIN_STAGE(RegisterMorphStages)
-// 2D.
-ARCS_BUILTIN_STAGE(RegisterPlanarStages)
+// 2D twins, each beside its 3D stage (stages/sdf/, baseline/, reconstruct/, eval/).
+ARCS_BUILTIN_STAGE(RegisterSdfGrid2D)
+ARCS_BUILTIN_STAGE(RegisterSdfRandom2D)
+ARCS_BUILTIN_STAGE(RegisterMarchingSquares)
+ARCS_BUILTIN_STAGE(RegisterScreenedPoisson2D)
+ARCS_BUILTIN_STAGE(RegisterEvalStages2D)
 // Evaluators (stages/eval/).
 ARCS_BUILTIN_STAGE(RegisterEvalStages)

@@ -7,7 +7,7 @@
 #include "framework/geometry/transform_file.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/points_io.h"
-#include "framework/planar/curves.h"
+#include "framework/geometry/curves.h"
 #include "framework/spatial/topology.h"
 #include "framework/util/parallel.h"
 #include "framework/util/rng.h"

@@ -3,7 +3,7 @@
 
 #include "framework/experiment/version.h"
 #include "framework/util/rng.h"
-#include "framework/planar/curves.h"
+#include "framework/geometry/curves.h"
 #include "registry/plugin.h"
 
 #include <algorithm>

@@ -3,6 +3,7 @@
 #include "framework/error.h"
 #include "framework/rfta/sphere_set.h"
 #include "framework/rfta/sphere_tree.h"
+#include "framework/spatial/polyline_query.h"
 #include "framework/spatial/triangle_bvh.h"
 #include "framework/spatial/winding_number.h"
 #include "framework/util/parallel.h"
@@ -126,6 +127,26 @@ class MeshTuningSurface final : public TuningSurface {
   std::unique_ptr<FastWindingNumber> fwn_;
 };
 
+// The 2D path: a polyline in the unit frame.
+class PolylineTuningSurface final : public TuningSurface {
+ public:
+  explicit PolylineTuningSurface(Polyline c) : curve_(std::move(c)) {}
+  void Prepare() override { bvh_ = std::make_unique<SegmentBvh>(curve_); }
+  void ClosestPoints(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d* points) const override {
+    bvh_->ClosestPoints(Q, sq_dist, points);
+  }
+  double Closest(const Vec3& q, Vec3* point) const override {
+    const SegmentBvh::Hit h = bvh_->Closest(q);
+    *point = h.point;
+    return h.sq_dist;
+  }
+  VectorXd WindingNumbers(const MatrixX3d& Q) const override { return WindingNumbers2D(curve_, Q); }
+
+ private:
+  Polyline curve_;
+  std::unique_ptr<SegmentBvh> bvh_;
+};
+
 }  // namespace
 
 std::unique_ptr<TuningSurface> MakeMeshTuningSurface(Mesh unit_frame_mesh) {
@@ -141,6 +162,24 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
     for (int v = 0; v < omega.NumVertices(); ++v)
       omega.V.row(v) = frame.ToUnit(omega.V.row(v).transpose()).transpose();
     return MakeMeshTuningSurface(std::move(omega));
+  };
+  return FineTune(samples, initial, initial_sample, surface, options, ctx);
+}
+
+std::unique_ptr<TuningSurface> MakePolylineTuningSurface(Polyline unit_frame_curve) {
+  return std::make_unique<PolylineTuningSurface>(std::move(unit_frame_curve));
+}
+
+FineTuneResult FineTune2D(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
+                          const PointsToCurve& reconstruct, const FineTuneOptions& options, const Context& ctx) {
+  if (samples.dim != 2) throw Error("fine_tune (2D): the samples are " + std::to_string(samples.dim) + "D");
+  const PointsToSurface surface = [&](const PointCloud& pc,
+                                      const UnitFrame& frame) -> std::unique_ptr<TuningSurface> {
+    Polyline c = reconstruct(pc);
+    if (c.Empty()) return nullptr;
+    for (int v = 0; v < c.NumVertices(); ++v) c.V.row(v) = frame.ToUnit(c.V.row(v).transpose()).transpose();
+    c.V.col(2).setZero();  // exactly in the plane (ToUnit subtracts z = 0 translation)
+    return MakePolylineTuningSurface(std::move(c));
   };
   return FineTune(samples, initial, initial_sample, surface, options, ctx);
 }

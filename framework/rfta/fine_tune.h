@@ -13,7 +13,7 @@
 // Dimensions. The reconstructed surface Ω^k is reached through TuningSurface
 // (closest point + inside test): a triangle mesh in 3D
 // (MakeMeshTuningSurface: the closest-point BVH and the fast winding number),
-// a polyline in 2D (framework/planar: MakePolylineTuningSurface). The 3D
+// a polyline in 2D (MakePolylineTuningSurface, FineTune2D). The 3D
 // entry point with a PointsToMesh reconstructor is unchanged and gives the
 // same results as before the generalisation, bit for bit. In 2D (samples.dim
 // = 2, all points with z = 0) geodesic transport rotates about the z axis.
@@ -82,6 +82,10 @@ class TuningSurface {
 // A triangle mesh already in the unit frame as a TuningSurface (the 3D path).
 std::unique_ptr<TuningSurface> MakeMeshTuningSurface(Mesh unit_frame_mesh);
 
+// A polyline already in the unit frame as a TuningSurface (the 2D path):
+// closest points by SegmentBvh, inside by the 2D winding number.
+std::unique_ptr<TuningSurface> MakePolylineTuningSurface(Polyline unit_frame_curve);
+
 // Reconstructs a surface from oriented points (input frame) and returns it
 // mapped into `frame`'s unit frame; nullptr = an empty reconstruction.
 using PointsToSurface = std::function<std::unique_ptr<TuningSurface>(const PointCloud&, const UnitFrame& frame)>;
@@ -119,5 +123,14 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
 // The same with any surface type (2D polylines, or other 3D surfaces).
 FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
                         const PointsToSurface& reconstruct, const FineTuneOptions& options, const Context& ctx);
+
+// Reconstructs closed polylines (input frame, z = 0) from oriented 2D points.
+using PointsToCurve = std::function<Polyline(const PointCloud&)>;
+
+// The 2D twin of the PointsToMesh entry point (samples.dim must be 2): its
+// curves are queried through MakePolylineTuningSurface. An empty curve stops
+// the iterations early, as an empty mesh does in 3D.
+FineTuneResult FineTune2D(const SdfSamples& samples, const PointCloud& initial, const std::vector<int>& initial_sample,
+                          const PointsToCurve& reconstruct, const FineTuneOptions& options, const Context& ctx);
 
 }  // namespace arcs

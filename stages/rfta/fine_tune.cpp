@@ -1,14 +1,14 @@
 // fine_tune: the local–global fine-tuning of Reach for the Arcs (paper §4.2,
 // Alg. 3). Reads CaseData::points/point_sample (from arc_projector), writes
 // the tuned points back; the reconstructor it tunes against is a nested stage.
-// On 2D samples it tunes against closed polylines (framework/planar): the 3D
-// `screened_poisson` becomes `screened_poisson_2d` (stages/planar/planar.h).
-#include "framework/planar/rfta2d.h"
+// On 2D samples it tunes against closed polylines (framework/rfta/fine_tune.h): the 3D
+// `screened_poisson` becomes `screened_poisson_2d` (stages/reconstruct/screened_poisson_2d.h).
 #include "framework/rfta/fine_tune.h"
+#include "framework/rfta/reach_for_the_arcs.h"
 #include "registry/bind.h"
 #include "stages/builtin.h"
+#include "stages/reconstruct/screened_poisson_2d.h"
 #include "stages/rfta/rfta_params.h"
-#include "stages/planar/planar.h"
 
 namespace arcs {
 

@@ -1,19 +1,141 @@
-// rfta: Reach for the Arcs as one SDF -> mesh stage (paper Alg. 1): an
-// empty-space sampler, the arc projector, the fine-tuner and the final
-// reconstruction, each the registered stage of that name, so `rfta` and the
-// explicit pipeline give the same result. Writes the time of each part.
+// rfta: Reach for the Arcs as one SDF -> mesh stage (paper Alg. 1), a thin
+// adaptor over the library's ReachForTheArcs (framework/rfta/
+// reach_for_the_arcs.h) for both dimensions. Its parts run as the registered
+// stages of the same names: the configured empty-space sampler and
+// reconstructors are nested stages (so `rfta` and the explicit pipeline
+// [sampler, arc_projector, fine_tune, reconstructor] give the same result),
+// and the case data and metrics are written as those stages write them, with
+// the time of each part (rfta_*_s).
 // On 2D samples (dim 2) it writes CaseData::output_curve: the reconstructors
 // `screened_poisson` (the 3D default, final and tuning) become
-// `screened_poisson_2d` with its defaults (stages/planar/planar.h); a
-// configured 2D reconstructor is used as given.
-#include "framework/rfta/sphere_set.h"
+// `screened_poisson_2d` with its defaults (stages/reconstruct/
+// screened_poisson_2d.h); a configured 2D reconstructor is used as given.
+#include "framework/rfta/reach_for_the_arcs.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
-#include "stages/planar/planar.h"
-
-#include <chrono>
+#include "stages/reconstruct/screened_poisson_2d.h"
 
 namespace arcs {
+
+namespace {
+
+// The fine_tune stage's options with rfta's parameters (stages/rfta/fine_tune.cpp
+// resolves the same defaults).
+RftaOptions DecodeRftaOptions(const ParamMap& p) {
+  RftaOptions o;
+  o.projector.batch_size = p.GetInt("batch_size");
+  o.fine_tune.iterations = static_cast<int>(p.GetInt("iterations"));
+  o.fine_tune.max_points_per_sphere = static_cast<int>(p.GetInt("max_points_per_sphere"));
+  o.fine_tune.batch_size = p.GetInt("batch_size");
+  const std::string fc = p.GetString("final_check");
+  o.fine_tune.final_check = fc == "drop"     ? FineTuneOptions::FinalCheck::kDrop
+                            : fc == "repair" ? FineTuneOptions::FinalCheck::kRepair
+                                             : FineTuneOptions::FinalCheck::kOff;
+  const std::string sc = p.GetString("on_sign_conflict");
+  o.on_sign_conflict = sc == "error"    ? RftaOptions::OnSignConflict::kError
+                       : sc == "ignore" ? RftaOptions::OnSignConflict::kIgnore
+                                        : RftaOptions::OnSignConflict::kWarn;
+  return o;
+}
+
+// Runs the reconstructor stage `spec` on `pc` in a case of its own.
+Surface ReconstructBy(const StageSpec& spec, const PointCloud& pc, Context& ctx, const Registry* registry, int dim) {
+  CaseData sub;
+  sub.registry = registry;
+  sub.points = pc;
+  RunNestedStage(spec, ctx, sub);
+  if (dim == 2) {
+    if (!sub.output_curve)
+      throw Error("reconstructor '" + spec.stage + "' produced no 2D curve (2D samples need a 2D reconstructor, "
+                  "e.g. screened_poisson_2d)");
+    return std::move(*sub.output_curve);
+  }
+  if (!sub.output) throw Error("reconstructor '" + spec.stage + "' produced no mesh");
+  return std::move(*sub.output);
+}
+
+void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
+  if (!d.registry) throw Error("rfta: needs the case's registry");
+  const SdfSamples& samples = d.RequireSamples("rfta");
+  const int dim = samples.dim;
+  const RftaOptions options = DecodeRftaOptions(p);
+  const StageSpec final_spec =
+      dim == 2 ? PlanarReconstructorFor(p.GetStage("reconstructor"), d.registry) : p.GetStage("reconstructor");
+  const StageSpec tuning_spec = dim == 2 ? PlanarReconstructorFor(p.GetStage("tuning_reconstructor"), d.registry)
+                                         : p.GetStage("tuning_reconstructor");
+  RftaParts parts;
+  // The sampler and the final reconstructor run on the case itself (they see
+  // all of it and write their metrics and slots); the tuning reconstructor
+  // in a case of its own per iteration, as the fine_tune stage runs it.
+  parts.sampler = [&](const SdfSamples&, const Context&) {
+    RunNestedStage(p.GetStage("sampler"), ctx, d);
+    if (!d.free_points)
+      throw Error("rfta: the sampler '" + p.GetStage("sampler").stage + "' produced no free-space samples");
+    FreeSpaceSamples f;
+    f.points = d.free_points->P;
+    f.sign = d.free_point_sign;
+    return f;
+  };
+  parts.tuning = [&](const PointCloud& pc) { return ReconstructBy(tuning_spec, pc, ctx, d.registry, dim); };
+  parts.reconstruct = [&](const PointCloud&) -> Surface {
+    RunNestedStage(final_spec, ctx, d);
+    if (dim == 2) {
+      if (!d.output_curve)
+        throw Error("rfta: the reconstructor produced no 2D curve (2D samples need a 2D reconstructor, e.g. "
+                    "screened_poisson_2d)");
+      return std::move(*d.output_curve);
+    }
+    if (!d.output) throw Error("rfta: the reconstructor produced no mesh");
+    return std::move(*d.output);
+  };
+  // The case data and metrics of each part as its stage writes them.
+  parts.after = [&](RftaPart part, const RftaResult& r) {
+    switch (part) {
+      case RftaPart::kSignCheck:
+        d.SetMetric("rfta_sign_conflicts", static_cast<double>(r.sign_conflicts));
+        break;
+      case RftaPart::kSampler:
+        d.SetMetric("rfta_sampler_s", r.sampler_s);
+        break;
+      case RftaPart::kProjector:  // as stages/rfta/arc_projector.cpp
+        ctx.Info("arc_projector: " + std::to_string(r.points.Size()) + " points (" +
+                 std::to_string(r.projector.feasible_at_projection) + " feasible at projection, " +
+                 std::to_string(r.projector.made_feasible) + " made feasible, " +
+                 std::to_string(r.projector.dropped) + " dropped)");
+        d.points = r.points;
+        d.point_sample = r.sample;
+        d.SetMetric("arc_points", static_cast<double>(d.points->Size()));
+        d.SetMetric("arc_dropped", static_cast<double>(r.projector.dropped));
+        d.SetMetric("rfta_projector_s", r.projector_s);
+        break;
+      case RftaPart::kFineTune: {  // as stages/rfta/fine_tune.cpp
+        d.points = r.points;
+        d.point_sample = r.sample;
+        d.SetMetric("rfta_points", static_cast<double>(d.points->Size()));
+        d.SetMetric("fine_tune_iterations", static_cast<double>(r.tuning.iterations.size()));
+        if (options.fine_tune.final_check != FineTuneOptions::FinalCheck::kOff) {
+          d.SetMetric("final_infeasible", static_cast<double>(r.tuning.final_infeasible));
+          d.SetMetric("final_repaired", static_cast<double>(r.tuning.final_repaired));
+        }
+        double rec_s = 0;
+        for (const auto& it : r.tuning.iterations) rec_s += it.reconstruct_s;
+        d.SetMetric("fine_tune_reconstruct_s", rec_s);
+        if (r.tuning.stopped_early) ctx.Warn("fine_tune stopped early: " + r.tuning.stop_reason);
+        d.SetMetric("rfta_fine_tune_s", r.fine_tune_s);
+        if (dim == 2) d.output_curve.reset();
+        break;
+      }
+      case RftaPart::kFinal:
+        break;
+    }
+  };
+  RftaResult r = ReachForTheArcs(samples, options, parts, ctx);
+  if (dim == 2) d.output_curve = std::get<Polyline>(std::move(r.surface));
+  else d.output = std::get<Mesh>(std::move(r.surface));
+  d.SetMetric("rfta_final_s", r.final_s);
+}
+
+}  // namespace
 
 void RegisterRfta(Registry& r) {
   StageInfo s;
@@ -46,60 +168,7 @@ void RegisterRfta(Registry& r) {
               "positive and negative spheres that overlap (not an SDF; noisy SDFs, Fig. 23, have some): "
               "warn and go on (refused when more than half of the outside spheres conflict), fail the case, "
               "or say nothing and go on");
-  s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
-    if (!d.registry) throw Error("rfta: needs the case's registry");
-    const Registry& reg = *d.registry;
-    using Clock = std::chrono::steady_clock;
-    auto timed = [&](const char* metric, const StageSpec& spec) {
-      const auto t0 = Clock::now();
-      RunNestedStage(spec, ctx, d);
-      d.SetMetric(metric, std::chrono::duration<double>(Clock::now() - t0).count());
-    };
-    ParamMap proj;
-    proj.Set("batch_size", p.GetInt("batch_size"));
-    ParamMap ft;
-    ft.Set("iterations", p.GetInt("iterations"));
-    ft.Set("max_points_per_sphere", p.GetInt("max_points_per_sphere"));
-    ft.Set("batch_size", p.GetInt("batch_size"));
-    ft.Set("final_check", p.GetString("final_check"));
-    ft.Set("reconstructor", p.Get("tuning_reconstructor"));
-    {
-      const SdfSamples& samples = d.RequireSamples("rfta");
-      CheckRftaSamples(samples, "rfta");
-      const SignedSpheres spheres = SplitSpheresBySign(samples, SignSplitOptions{});
-      RequireBothSigns(spheres, "rfta");
-      double depth = 0;
-      const std::int64_t conflicts = CountSignConflicts(spheres, 1e-4, &depth);
-      d.SetMetric("rfta_sign_conflicts", static_cast<double>(conflicts));
-      if (conflicts > 0 && p.GetString("on_sign_conflict") != "ignore") {
-        const std::string msg = "rfta: " + std::to_string(conflicts) + " of " + std::to_string(spheres.positive.Size()) +
-                                " outside spheres overlap inside spheres (deepest overlap " +
-                                std::to_string(depth * spheres.frame.scale) +
-                                "): the samples are not a consistent SDF";
-        if (p.GetString("on_sign_conflict") == "error") throw Error(msg);
-        // Noisy SDFs have some conflicts; when most outside spheres conflict
-        // the samples are no SDF at all (e.g. mesh distances signed by an
-        // open-mesh shell) and RFTA would spend minutes on nothing.
-        if (2 * conflicts > spheres.positive.Size())
-          throw Error(msg + "; more than half of the outside spheres conflict: refused "
-                            "(on_sign_conflict: ignore goes on anyway)");
-        ctx.Warn(msg + "; going on (set on_sign_conflict: error to refuse such input)");
-      }
-    }
-    const bool planar = d.RequireSamples("rfta").dim == 2;
-    timed("rfta_sampler_s", p.GetStage("sampler"));
-    timed("rfta_projector_s", StageSpec{"arc_projector", reg.Resolve("arc_projector", proj)});
-    timed("rfta_fine_tune_s", StageSpec{"fine_tune", reg.Resolve("fine_tune", ft)});
-    if (planar) {
-      d.output_curve.reset();
-      timed("rfta_final_s", PlanarReconstructorFor(p.GetStage("reconstructor"), d.registry));
-      if (!d.output_curve) throw Error("rfta: the reconstructor produced no 2D curve (2D samples need a 2D reconstructor, e.g. screened_poisson_2d)");
-      if (d.output_curve->Empty()) throw Error("rfta: the final 2D reconstruction is empty");
-      return;
-    }
-    timed("rfta_final_s", p.GetStage("reconstructor"));
-    if (!d.output) throw Error("rfta: the reconstructor produced no mesh");
-  });
+  s.factory = FunctionStage(RunRfta);
   r.Register(std::move(s));
 }
 

@@ -1,9 +1,9 @@
 // `save_outputs` / `arcs run --save-outputs`: each case's output mesh, 2D
 // curve and the method's oriented points are written under <out>/outputs/,
 // named after the case, and are the very outputs the metrics measured.
+#include "framework/geometry/curves.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/points_io.h"
-#include "framework/planar/curves.h"
 #include "tests/e2e/e2e_util.h"
 
 #include <gtest/gtest.h>

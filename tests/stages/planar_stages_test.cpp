@@ -2,8 +2,8 @@
 // (2D dispatch) -> chamfer_2d, hausdorff_2d, e_sdf_2d, topology_2d; and the
 // 2D pipeline spelled out [rasterize, arc_projector, fine_tune,
 // screened_poisson_2d] gives the same curve as `rfta`.
+#include "framework/geometry/curves.h"
 #include "framework/io/sdf_io.h"
-#include "framework/planar/curves.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
 

@@ -1,4 +1,4 @@
-#include "framework/planar/curves.h"
+#include "framework/geometry/curves.h"
 
 #include "framework/error.h"
 

@@ -1,4 +1,4 @@
-#include "framework/planar/polyline_query.h"
+#include "framework/spatial/polyline_query.h"
 
 #include "framework/error.h"
 #include "framework/util/parallel.h"

@@ -1,9 +1,9 @@
-#include "framework/planar/curve_metrics.h"
+#include "framework/eval/curve_metrics.h"
 
 #include "framework/error.h"
-#include "framework/planar/curves.h"
-#include "framework/planar/polyline_query.h"
+#include "framework/geometry/curves.h"
 #include "framework/spatial/knn.h"
+#include "framework/spatial/polyline_query.h"
 #include "framework/util/parallel.h"
 #include "framework/util/rng.h"
 

@@ -1,4 +1,5 @@
-// Helpers shared by the 2D stages and the RFTA stages' 2D dispatch.
+// The 2D screened Poisson stage (stages/reconstruct/screened_poisson_2d.cpp)
+// as the reconstructor of the RFTA stages (rfta, fine_tune) on 2D samples.
 #pragma once
 
 #include "registry/registry.h"

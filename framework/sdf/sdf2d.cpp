@@ -1,8 +1,8 @@
-#include "framework/planar/sdf2d.h"
+#include "framework/sdf/sdf2d.h"
 
 #include "framework/error.h"
-#include "framework/planar/curves.h"
-#include "framework/planar/polyline_query.h"
+#include "framework/geometry/curves.h"
+#include "framework/spatial/polyline_query.h"
 #include "framework/util/parallel.h"
 
 #include <cmath>

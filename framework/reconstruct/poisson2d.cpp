@@ -1,8 +1,8 @@
-#include "framework/planar/poisson2d.h"
+#include "framework/reconstruct/poisson2d.h"
 
 #include "framework/error.h"
+#include "framework/geometry/curves.h"
 #include "framework/geometry/marching_cubes.h"
-#include "framework/planar/curves.h"
 #include "framework/spatial/knn.h"
 
 #include <Eigen/SparseCholesky>

@@ -1,10 +1,10 @@
 // The 2D screened Poisson reconstructor on exact oriented samples of known
 // curves, and marching squares on an exact 2D SDF grid.
+#include "framework/eval/curve_metrics.h"
+#include "framework/geometry/curves.h"
 #include "framework/geometry/marching_cubes.h"
-#include "framework/planar/curve_metrics.h"
-#include "framework/planar/curves.h"
-#include "framework/planar/poisson2d.h"
-#include "framework/planar/sdf2d.h"
+#include "framework/reconstruct/poisson2d.h"
+#include "framework/sdf/sdf2d.h"
 
 #include <gtest/gtest.h>
 

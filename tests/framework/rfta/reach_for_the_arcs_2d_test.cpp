@@ -1,17 +1,19 @@
-// Reach for the Arcs in 2D (paper Fig. 5): on exact SDF grids of a circle and
-// the star at n = 20 it must beat marching squares on the paper's Chamfer;
-// fine-tuning is deterministic across thread counts; bad samples fail clearly.
+// Reach for the Arcs in 2D (paper Fig. 5), the library's ReachForTheArcs on
+// dim-2 samples: on exact SDF grids of a circle and the star at n = 20 it
+// must beat marching squares on the paper's Chamfer; fine-tuning is
+// deterministic across thread counts; bad samples fail clearly.
+#include "framework/eval/curve_metrics.h"
+#include "framework/geometry/curves.h"
 #include "framework/geometry/marching_cubes.h"
-#include "framework/planar/curve_metrics.h"
-#include "framework/planar/curves.h"
-#include "framework/planar/rfta2d.h"
-#include "framework/planar/sdf2d.h"
+#include "framework/rfta/reach_for_the_arcs.h"
+#include "framework/sdf/sdf2d.h"
 #include "framework/util/parallel.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <variant>
 
 namespace arcs {
 namespace {
@@ -31,12 +33,13 @@ TEST(Rfta2D, BeatsMarchingSquaresOnACircleAndTheStarAtN20) {
     NormalizeCurve(&ref);
     const SdfSamples s = Grid(shape, 20);
     const Polyline ms = ToPolyline(MarchingSquares(s.values, *s.grid));
-    const Rfta2DResult r = ReachForTheArcs2D(s, Rfta2DOptions{}, Context(1));
-    const CurveTopology t = ComputeCurveTopology(r.curve);
+    const RftaResult r = ReachForTheArcs(s, RftaOptions{}, Context(1));
+    const Polyline& curve = std::get<Polyline>(r.surface);
+    const CurveTopology t = ComputeCurveTopology(curve);
     EXPECT_EQ(t.components, 1) << shape;
     EXPECT_TRUE(t.Closed()) << shape;
-    EXPECT_GT(PolylineSignedArea(r.curve), 0) << shape;
-    const double c_ms = ChamferCurves(ms, ref, 20000, 5), c_rfta = ChamferCurves(r.curve, ref, 20000, 5);
+    EXPECT_GT(PolylineSignedArea(curve), 0) << shape;
+    const double c_ms = ChamferCurves(ms, ref, 20000, 5), c_rfta = ChamferCurves(curve, ref, 20000, 5);
     EXPECT_LT(c_rfta, c_ms) << shape;
     if (std::string(shape) == "circle") {
       EXPECT_LT(c_rfta, 0.5 * c_ms);
@@ -56,44 +59,45 @@ TEST(Rfta2D, BeatsMarchingSquaresOnACircleAndTheStarAtN20) {
 
 TEST(Rfta2D, FineTuningIsTheSameAtOneAndTwoThreads) {
   const SdfSamples s = Grid("bunny", 16);
-  Rfta2DOptions o;
+  RftaOptions o;
   o.fine_tune.iterations = 4;
   o.fine_tune.max_points_per_sphere = 5;
-  Rfta2DResult a, b;
+  RftaResult a, b;
   {
     ThreadLimit l(1);
-    a = ReachForTheArcs2D(s, o, Context(7));
+    a = ReachForTheArcs(s, o, Context(7));
   }
   {
     ThreadLimit l(2);
-    b = ReachForTheArcs2D(s, o, Context(7));
+    b = ReachForTheArcs(s, o, Context(7));
   }
   ASSERT_EQ(a.points.Size(), b.points.Size());
   EXPECT_EQ((a.points.P - b.points.P).cwiseAbs().maxCoeff(), 0.0);
   EXPECT_EQ(a.sample, b.sample);
-  ASSERT_EQ(a.curve.NumVertices(), b.curve.NumVertices());
-  EXPECT_EQ((a.curve.V - b.curve.V).cwiseAbs().maxCoeff(), 0.0);
+  const Polyline &ca = std::get<Polyline>(a.surface), &cb = std::get<Polyline>(b.surface);
+  ASSERT_EQ(ca.NumVertices(), cb.NumVertices());
+  EXPECT_EQ((ca.V - cb.V).cwiseAbs().maxCoeff(), 0.0);
 }
 
 TEST(Rfta2D, BadSamplesAreClearErrors) {
   const SdfSamples good = Grid("circle", 10);
   SdfSamples positive = good;
   positive.values = positive.values.cwiseAbs().array() + 0.01;
-  EXPECT_THROW(ReachForTheArcs2D(positive, Rfta2DOptions{}, Context(1)), Error);
+  EXPECT_THROW(ReachForTheArcs(positive, RftaOptions{}, Context(1)), Error);
   SdfSamples negative = good;
   negative.values = -(negative.values.cwiseAbs().array() + 0.01);
-  EXPECT_THROW(ReachForTheArcs2D(negative, Rfta2DOptions{}, Context(1)), Error);
+  EXPECT_THROW(ReachForTheArcs(negative, RftaOptions{}, Context(1)), Error);
   SdfSamples nan = good;
   nan.values[5] = std::nan("");
-  EXPECT_THROW(ReachForTheArcs2D(nan, Rfta2DOptions{}, Context(1)), Error);
+  EXPECT_THROW(ReachForTheArcs(nan, RftaOptions{}, Context(1)), Error);
   SdfSamples one = good;
   one.points.conservativeResize(1, 2);
   one.values.conservativeResize(1);
   one.grid.reset();
-  EXPECT_THROW(ReachForTheArcs2D(one, Rfta2DOptions{}, Context(1)), Error);
+  EXPECT_THROW(ReachForTheArcs(one, RftaOptions{}, Context(1)), Error);
   SdfSamples three_d = good;
   three_d.dim = 3;
-  EXPECT_THROW(ReachForTheArcs2D(three_d, Rfta2DOptions{}, Context(1)), Error);
+  EXPECT_THROW(ReachForTheArcs(three_d, RftaOptions{}, Context(1)), Error);
   // A failing curve reconstructor stops fine-tuning early and keeps the points.
   const FreeSpaceSamples free = RasterizeFreeSpace(good, RasterizeOptions{}, Context(1), nullptr);
   const ArcProjection a0 = ProjectToArcs(good, free, ArcProjectorOptions{}, Context(1));

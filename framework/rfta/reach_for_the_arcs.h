@@ -1,0 +1,117 @@
+// Reach for the Arcs (paper Alg. 1) as one library call, for both
+// dimensions: SDF samples -> a triangle mesh (dim 3) or closed polylines
+// (dim 2, paper Fig. 5). It composes the parts of this module:
+//   sign check -> empty-space sampler (free_space.h; paper: rasterize)
+//   -> arc projector (arc_projector.h, Alg. 2) -> fine-tuning (fine_tune.h,
+//   Alg. 3) -> final reconstruction (paper: screened Poisson).
+// Everything that depends on the dimension is chosen here from samples.dim:
+// the surface type, the fine-tuner's surface queries (mesh / polyline) and
+// the default reconstructors (reconstruct/poisson.h in 3D, our 2D screened
+// Poisson reconstruct/poisson2d.h in 2D). Sampler and reconstructors can be
+// replaced by callbacks (the `rfta` stage runs registered stages through
+// them); with none given, the defaults give the same result as the `rfta`
+// stage with its defaults (tested).
+#pragma once
+
+#include "framework/context.h"
+#include "framework/reconstruct/poisson.h"
+#include "framework/reconstruct/poisson2d.h"
+#include "framework/rfta/arc_projector.h"
+#include "framework/rfta/fine_tune.h"
+#include "framework/rfta/free_space.h"
+#include "framework/types.h"
+
+#include <cstdint>
+#include <functional>
+#include <variant>
+
+namespace arcs {
+
+// A reconstructed surface: a triangle mesh (3D) or closed polylines (2D,
+// z = 0, counter-clockwise around the inside).
+using Surface = std::variant<Mesh, Polyline>;
+
+// Oriented points (input frame) -> the surface of their dimension. An empty
+// surface inside fine-tuning ends the iterations early (the last points are
+// kept); an empty final 2D surface is an error.
+using SurfaceReconstructor = std::function<Surface(const PointCloud& oriented)>;
+
+// SDF samples -> free-space samples of both signs (paper §4.1).
+using FreeSpaceSampler = std::function<FreeSpaceSamples(const SdfSamples& samples, const Context& ctx)>;
+
+struct RftaOptions {
+  RasterizeOptions raster;         // the default empty-space sampler (paper: rasterize)
+  ArcProjectorOptions projector;   // Alg. 2 initial tangency points
+  FineTuneOptions fine_tune;       // Alg. 3 (k_max, n_max, b, tau, ...)
+  // Positive and negative spheres that overlap (not an SDF; noisy SDFs,
+  // Fig. 23, have some): kWarn = warn and go on, but refuse when more than
+  // half of the outside spheres conflict; kError = refuse; kIgnore = go on.
+  enum class OnSignConflict { kWarn, kError, kIgnore };
+  OnSignConflict on_sign_conflict = OnSignConflict::kWarn;
+  // The default reconstructors (used where RftaParts leaves one empty).
+  PoissonOptions poisson;          // 3D final surface: screened Poisson defaults
+  // 3D surfaces inside fine-tuning: three octree levels coarser, at least 4
+  // points per leaf, no re-solve of open surfaces (they only steer the
+  // points; measured trade-off in the `rfta` stage's doc and docs/decisions.md).
+  PoissonOptions tuning_poisson = [] {
+    PoissonOptions o;
+    o.depth_offset = -3;
+    o.samples_per_node = 4.0;
+    o.open_retries = 0;
+    return o;
+  }();
+  Poisson2DOptions poisson_2d;     // 2D final curve
+  // 2D curves inside fine-tuning: half as fine (the 3D preset's 2D twin).
+  Poisson2DOptions tuning_poisson_2d = [] {
+    Poisson2DOptions o;
+    o.resolution_shift = -1;
+    return o;
+  }();
+  void Check() const;  // throws OptionError naming the field
+};
+
+// The parts of one run that vary by dimension or by stage.
+enum class RftaPart { kSignCheck, kSampler, kProjector, kFineTune, kFinal };
+
+struct RftaResult {
+  Surface surface;                 // the final surface (input frame): Mesh in 3D, Polyline in 2D
+  PointCloud points;               // the final tangency points (input frame, outward normals)
+  std::vector<int> sample;         // SDF sample of each point
+  FreeSpaceSamples free;           // the sampler's free-space samples (input frame)
+  ArcProjectorStats projector;     // the arc projector's counts
+  FineTuneResult tuning;           // per-iteration statistics (its points are moved into `points`)
+  std::int64_t sign_conflicts = 0;     // positive spheres overlapping a negative one by more than 1e-4
+  double sign_conflict_depth = 0;      // the deepest such overlap (input units)
+  // Wall time of each part (seconds).
+  double sampler_s = 0, projector_s = 0, fine_tune_s = 0, final_s = 0;
+};
+
+// Replaceable parts; an empty one takes the default.
+struct RftaParts {
+  FreeSpaceSampler sampler;          // default: RasterizeFreeSpace with options.raster
+  SurfaceReconstructor reconstruct;  // final surface; default: options.poisson / poisson_2d
+  SurfaceReconstructor tuning;       // inside fine-tuning; default: options.tuning_poisson / tuning_poisson_2d
+  // Called after each part with the result so far (kSignCheck: before the
+  // conflict policy acts; kProjector: `points` are the initial tangency
+  // points; kFinal: `surface` is set), e.g. to record a stage's metrics as
+  // they come, so a failing part leaves those of the parts before it.
+  std::function<void(RftaPart, const RftaResult&)> after;
+};
+
+// The whole of Algorithm 1 on samples of dimension 2 or 3. Throws Error on
+// unusable samples (CheckRftaSamples: fewer than 2, non-finite, ...), samples
+// of one sign, sign conflicts the policy refuses, a reconstructor giving the
+// other dimension's surface or an empty final 2D curve; OptionError on bad
+// options.
+RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options, const RftaParts& parts,
+                           const Context& ctx);
+// The same with the default sampler and reconstructors.
+RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options, const Context& ctx);
+
+// The default reconstructors of `options` for samples of dimension `dim`
+// (the final one, or the one inside fine-tuning): screened Poisson in 3D
+// (automatic depth resolved first, as the `screened_poisson` stage does), our
+// 2D screened Poisson in 2D. `ctx` must outlive the returned function.
+SurfaceReconstructor DefaultRftaReconstructor(int dim, const RftaOptions& options, bool tuning, const Context& ctx);
+
+}  // namespace arcs

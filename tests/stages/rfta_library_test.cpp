@@ -1,0 +1,125 @@
+// One Reach for the Arcs for both dimensions: the library's ReachForTheArcs
+// with its default sampler and reconstructors gives bit for bit the surface
+// and points of the `rfta` stage with its defaults (registered nested stages),
+// in 3D (torus, n = 10) and 2D (star, n = 12); the stage writes each part's
+// metrics; a reconstructor of the wrong dimension is a clear error.
+#include "framework/geometry/builtin_shapes.h"
+#include "framework/geometry/curves.h"
+#include "framework/geometry/normalize.h"
+#include "framework/rfta/reach_for_the_arcs.h"
+#include "framework/sdf/sdf2d.h"
+#include "framework/sdf/sdf_sampling.h"
+#include "registry/registry.h"
+#include "stages/builtin.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <variant>
+
+namespace arcs {
+namespace {
+
+CaseData RunRftaStage(const Registry& r, const SdfSamples& samples, const ParamMap& given, std::uint64_t seed) {
+  CaseData d;
+  d.registry = &r;
+  d.samples = samples;
+  Context ctx(seed);
+  r.Get("rfta").factory(r.Resolve("rfta", given))->Run(ctx, d);
+  return d;
+}
+
+bool Has(const CaseData& d, const std::string& name) {
+  for (const auto& [k, v] : d.metrics)
+    if (k == name) return true;
+  return false;
+}
+
+TEST(RftaLibrary, DefaultsEqualTheStageIn3D) {
+  Mesh torus = MakeTorus();
+  Normalize(&torus, NormalizeOptions{});
+  SdfGridOptions go;
+  go.n = 10;
+  const SdfSamples s = SampleSdfGrid(torus, go, Context(1));
+  Registry r;
+  RegisterBuiltinStages(r);
+  ParamMap given;
+  given.Set("iterations", std::int64_t{3});
+  const CaseData d = RunRftaStage(r, s, given, 5);
+  RftaOptions o;
+  o.fine_tune.iterations = 3;
+  const RftaResult lib = ReachForTheArcs(s, o, Context(5));
+  ASSERT_TRUE(d.output.has_value());
+  ASSERT_TRUE(std::holds_alternative<Mesh>(lib.surface));
+  const Mesh& m = std::get<Mesh>(lib.surface);
+  ASSERT_GT(m.NumFaces(), 0);
+  ASSERT_EQ(m.NumVertices(), d.output->NumVertices());
+  ASSERT_EQ(m.NumFaces(), d.output->NumFaces());
+  EXPECT_EQ((m.V - d.output->V).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((m.F - d.output->F).cwiseAbs().maxCoeff(), 0);
+  ASSERT_EQ(lib.points.Size(), d.points->Size());
+  EXPECT_EQ((lib.points.P - d.points->P).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(lib.sample, d.point_sample);
+  EXPECT_EQ(lib.tuning.iterations.size(), 3u);
+  for (const char* k : {"rfta_sign_conflicts", "raster_resolution", "free_points", "rfta_sampler_s", "arc_points",
+                        "arc_dropped", "rfta_projector_s", "rfta_points", "fine_tune_iterations",
+                        "fine_tune_reconstruct_s", "rfta_fine_tune_s", "poisson_depth", "rfta_final_s"})
+    EXPECT_TRUE(Has(d, k)) << k;
+}
+
+TEST(RftaLibrary, DefaultsEqualTheStageIn2D) {
+  Polyline c = MakeBuiltinCurve("star", 1024);
+  NormalizeCurve(&c);
+  SdfGrid2DOptions go;
+  go.n = 12;
+  const SdfSamples s = SampleSdfGrid2D(c, go, Context(1));
+  Registry r;
+  RegisterBuiltinStages(r);
+  const CaseData d = RunRftaStage(r, s, ParamMap(), 3);
+  const RftaResult lib = ReachForTheArcs(s, RftaOptions{}, Context(3));
+  ASSERT_TRUE(d.output_curve.has_value());
+  EXPECT_FALSE(d.output.has_value());
+  ASSERT_TRUE(std::holds_alternative<Polyline>(lib.surface));
+  const Polyline& curve = std::get<Polyline>(lib.surface);
+  ASSERT_GT(curve.NumVertices(), 0);
+  ASSERT_EQ(curve.NumVertices(), d.output_curve->NumVertices());
+  EXPECT_EQ((curve.V - d.output_curve->V).cwiseAbs().maxCoeff(), 0.0);
+  ASSERT_EQ(curve.NumEdges(), d.output_curve->NumEdges());
+  EXPECT_EQ((curve.E - d.output_curve->E).cwiseAbs().maxCoeff(), 0);
+  ASSERT_EQ(lib.points.Size(), d.points->Size());
+  EXPECT_EQ((lib.points.P - d.points->P).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_TRUE(Has(d, "poisson2d_resolution"));
+  EXPECT_TRUE(Has(d, "rfta_final_s"));
+}
+
+TEST(RftaLibrary, ReconstructorOfTheOtherDimensionIsAClearError) {
+  Polyline c = MakeBuiltinCurve("circle", 512);
+  SdfGrid2DOptions go;
+  go.n = 8;
+  const SdfSamples s = SampleSdfGrid2D(c, go, Context(1));
+  RftaParts parts;
+  int calls = 0;
+  parts.reconstruct = [&](const PointCloud&) -> Surface {
+    ++calls;
+    return Mesh();
+  };
+  RftaOptions o;
+  o.fine_tune.iterations = 1;
+  try {
+    ReachForTheArcs(s, o, parts, Context(1));
+    ADD_FAILURE() << "a mesh for 2D samples was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("gave a mesh for 2D samples"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(calls, 1);
+  // Every part reports once, in order.
+  std::vector<RftaPart> seen;
+  parts = RftaParts{};
+  parts.after = [&](RftaPart p, const RftaResult&) { seen.push_back(p); };
+  ReachForTheArcs(s, o, parts, Context(1));
+  EXPECT_EQ(seen, (std::vector<RftaPart>{RftaPart::kSignCheck, RftaPart::kSampler, RftaPart::kProjector,
+                                          RftaPart::kFineTune, RftaPart::kFinal}));
+}
+
+}  // namespace
+}  // namespace arcs
