@@ -19,7 +19,7 @@
 // consecutive n (1 = linear in N; N log N gives slightly above 1).
 #include "framework/context.h"
 #include "framework/eval/metrics.h"
-#include "framework/experiment/memory.h"
+#include "orchestration/memory.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"

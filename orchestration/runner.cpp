@@ -1,8 +1,8 @@
-#include "framework/experiment/runner.h"
+#include "orchestration/runner.h"
 
-#include "framework/experiment/csv.h"
-#include "framework/experiment/tables.h"
-#include "framework/experiment/version.h"
+#include "orchestration/csv.h"
+#include "orchestration/tables.h"
+#include "orchestration/version.h"
 #include "framework/util/cpus.h"
 #include "registry/plugin.h"
 #include "registry/plugin_api.h"

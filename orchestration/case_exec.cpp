@@ -1,7 +1,7 @@
 // Executing one case: load and normalise the item, run the input pipeline,
 // the method (timed, with its peak memory), then the metrics.
-#include "framework/experiment/memory.h"
-#include "framework/experiment/runner.h"
+#include "orchestration/memory.h"
+#include "orchestration/runner.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
 #include "framework/geometry/transform_file.h"

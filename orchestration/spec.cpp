@@ -1,7 +1,7 @@
-#include "framework/experiment/experiment.h"
-#include "framework/experiment/yaml_check.h"
+#include "orchestration/spec.h"
+#include "orchestration/yaml_check.h"
 
-#include "framework/experiment/version.h"
+#include "orchestration/version.h"
 #include "framework/util/rng.h"
 #include "framework/planar/curves.h"
 #include "registry/plugin.h"

@@ -3,8 +3,8 @@
 #pragma once
 
 #include "framework/context.h"
-#include "framework/experiment/experiment.h"
-#include "framework/experiment/results_dir.h"
+#include "orchestration/spec.h"
+#include "orchestration/results_dir.h"
 
 #include <string>
 #include <vector>
