@@ -12,7 +12,7 @@
 #pragma once
 
 #include "orchestration/csv.h"
-#include "orchestration/spec.h"
+#include "orchestration/expand.h"
 
 #include <cstdint>
 #include <string>

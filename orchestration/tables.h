@@ -3,7 +3,7 @@
 #pragma once
 
 #include "orchestration/csv.h"
-#include "orchestration/spec.h"
+#include "orchestration/table_spec.h"
 
 #include <string>
 #include <vector>

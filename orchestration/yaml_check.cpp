@@ -1,6 +1,6 @@
 #include "orchestration/yaml_check.h"
 
-#include "orchestration/spec.h"
+#include "orchestration/yaml_decode.h"
 
 #include <map>
 #include <vector>

@@ -2,6 +2,7 @@
 // over a small experiment YAML (a clear error or success, never a signal, a
 // sanitizer finding or a timeout), and the structural errors of
 // CheckYamlStructure with FILE:LINE: field.
+#include "orchestration/expand.h"
 #include "orchestration/spec.h"
 #include "stages/builtin.h"
 #include "tests/fuzz_util.h"

@@ -1,3 +1,4 @@
+#include "orchestration/expand.h"
 #include "orchestration/spec.h"
 #include "stages/builtin.h"
 #include "tests/test_util.h"
