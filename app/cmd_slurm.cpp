@@ -2,12 +2,12 @@
 // a Slurm job array. Writes two sbatch scripts: the array (task I runs
 // `arcs run EXP --shard I/N --out DIR`) and a table job (`arcs table DIR`)
 // that --submit queues after the array (--dependency=afterany). The results
-// directory takes many writers (framework/experiment/results_dir.h).
+// directory takes many writers (orchestration/results_dir.h).
 #include "app/cli.h"
 #include "app/commands.h"
-#include "framework/experiment/experiment.h"
-#include "framework/experiment/results_dir.h"
-#include "framework/experiment/runner.h"
+#include "orchestration/spec.h"
+#include "orchestration/results_dir.h"
+#include "orchestration/runner.h"
 #include "registry/plugin.h"
 
 #include <sys/wait.h>

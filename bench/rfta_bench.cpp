@@ -23,7 +23,7 @@
 // tests/stages/rfta_library_test.cpp).
 #include "framework/context.h"
 #include "framework/eval/metrics.h"
-#include "framework/experiment/memory.h"
+#include "orchestration/memory.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"

@@ -19,10 +19,10 @@
 #include <pybind11/stl.h>
 
 #include "framework/error.h"
-#include "framework/experiment/csv.h"
-#include "framework/experiment/experiment.h"
-#include "framework/experiment/runner.h"
-#include "framework/experiment/version.h"
+#include "orchestration/csv.h"
+#include "orchestration/spec.h"
+#include "orchestration/runner.h"
+#include "orchestration/version.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/io/mesh_io.h"
 #include "framework/io/points_io.h"

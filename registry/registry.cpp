@@ -1,5 +1,7 @@
 #include "registry/registry.h"
 
+#include "framework/util/suggest.h"
+
 #include <algorithm>
 
 namespace arcs {
@@ -50,32 +52,10 @@ std::vector<const StageInfo*> Registry::List() const {
   return out;
 }
 
-int EditDistance(const std::string& a, const std::string& b) {
-  std::vector<int> prev(b.size() + 1), cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) prev[j] = static_cast<int>(j);
-  for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = static_cast<int>(i);
-    for (size_t j = 1; j <= b.size(); ++j) {
-      const int sub = prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1);
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, sub});
-    }
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
 std::string Registry::Suggest(const std::string& name) const {
-  std::string best;
-  int best_d = 1 << 30;
-  for (const auto& s : stages_) {
-    int d = EditDistance(name, s.name);
-    // A prefix/substring match is a strong hint too.
-    if (s.name.find(name) != std::string::npos || name.find(s.name) != std::string::npos)
-      d = std::min(d, 2);
-    if (d < best_d) best_d = d, best = s.name;
-  }
-  const int limit = std::max<int>(2, static_cast<int>(name.size()) / 3);
-  return best_d <= limit ? best : "";
+  std::vector<std::string> names;
+  for (const auto& s : stages_) names.push_back(s.name);
+  return NearestName(name, names);
 }
 
 ParamMap Registry::Resolve(const std::string& stage, const ParamMap& given) const {

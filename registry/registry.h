@@ -22,7 +22,8 @@ class Registry {
   const StageInfo& Get(const std::string& name) const;
   // All stages, sorted by role then name.
   std::vector<const StageInfo*> List() const;
-  // The registered name closest to `name` (edit distance), or "" if none is close.
+  // The registered name closest to `name` (NearestName, framework/util/suggest.h),
+  // or "" if none is close.
   std::string Suggest(const std::string& name) const;
 
   // A stage object for a resolved spec (the same as Get(name).factory(params):
@@ -57,8 +58,5 @@ class Registry {
 // fills StageInfo and calls r.Register (which refuses duplicate names).
 void RegisterFunctionStage(Registry& r, const std::string& name, Role role, const std::string& doc,
                            ParamSchema params, std::vector<std::string> outputs, StageFn fn);
-
-// Edit distance (Levenshtein), used for suggestions.
-int EditDistance(const std::string& a, const std::string& b);
 
 }  // namespace arcs

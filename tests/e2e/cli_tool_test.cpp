@@ -2,7 +2,7 @@
 // subcommand, global options anywhere, --version, point clouds through
 // `arcs reconstruct`, formats by extension (.npy .npz text) round-tripping,
 // `arcs eval` in one frame with --json, outputs in the input's frame.
-#include "framework/experiment/csv.h"
+#include "orchestration/csv.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/transform_file.h"
 #include "framework/io/mesh_io.h"

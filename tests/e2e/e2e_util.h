@@ -1,7 +1,7 @@
 // Running the arcs binary from tests.
 #pragma once
 
-#include "framework/experiment/csv.h"
+#include "orchestration/csv.h"
 #include "tests/test_util.h"
 
 #include <array>

@@ -8,7 +8,7 @@
 //
 // The metrics' sample counts are lowered (--set ...samples=20000) to keep the
 // test to a couple of minutes on 2 busy cores; the cases are the quickstart's.
-#include "framework/experiment/results_dir.h"
+#include "orchestration/results_dir.h"
 #include "tests/e2e/e2e_util.h"
 #include "tests/test_util.h"
 

@@ -1,4 +1,4 @@
-#include "framework/experiment/tables.h"
+#include "orchestration/tables.h"
 
 #include "framework/error.h"
 

@@ -1,4 +1,4 @@
-#include "framework/experiment/memory.h"
+#include "orchestration/memory.h"
 
 #include <cstdio>
 #include <cstdlib>

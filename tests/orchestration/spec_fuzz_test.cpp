@@ -2,7 +2,8 @@
 // over a small experiment YAML (a clear error or success, never a signal, a
 // sanitizer finding or a timeout), and the structural errors of
 // CheckYamlStructure with FILE:LINE: field.
-#include "framework/experiment/experiment.h"
+#include "orchestration/expand.h"
+#include "orchestration/spec.h"
 #include "stages/builtin.h"
 #include "tests/fuzz_util.h"
 #include "tests/test_util.h"

@@ -1,8 +1,8 @@
 // Paired tables (means over the items where every method succeeded, with a
 // shapes column) and the failures table (one row per failed case and error).
-#include "framework/experiment/csv.h"
-#include "framework/experiment/experiment.h"
-#include "framework/experiment/tables.h"
+#include "orchestration/csv.h"
+#include "orchestration/spec.h"
+#include "orchestration/tables.h"
 
 #include <gtest/gtest.h>
 

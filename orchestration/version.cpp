@@ -1,5 +1,5 @@
 // Build provenance baked in at configure time.
-#include "framework/experiment/version.h"
+#include "orchestration/version.h"
 
 namespace arcs {
 

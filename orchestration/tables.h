@@ -2,8 +2,8 @@
 // the papers' CSVs beside ours; written as Markdown, CSV and LaTeX.
 #pragma once
 
-#include "framework/experiment/csv.h"
-#include "framework/experiment/experiment.h"
+#include "orchestration/csv.h"
+#include "orchestration/table_spec.h"
 
 #include <string>
 #include <vector>

@@ -1,9 +1,9 @@
-// One results directory, many writers (framework/experiment/results_dir.h),
+// One results directory, many writers (orchestration/results_dir.h),
 // and the checks made before any case runs: shards, torn tails, the union
 // readers see, locks, identity, table specs, duplicate sweeps, the case cap.
-#include "framework/experiment/results_dir.h"
-#include "framework/experiment/runner.h"
-#include "framework/experiment/tables.h"
+#include "orchestration/results_dir.h"
+#include "orchestration/runner.h"
+#include "orchestration/tables.h"
 #include "framework/util/cpus.h"
 #include "stages/builtin.h"
 #include "tests/test_util.h"

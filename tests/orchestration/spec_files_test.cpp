@@ -1,6 +1,7 @@
 // Every experiment file shipped in experiments/ validates and expands, and
 // each table's rows/columns name a column the cases will have.
-#include "framework/experiment/experiment.h"
+#include "orchestration/expand.h"
+#include "orchestration/spec.h"
 #include "stages/builtin.h"
 #include "tests/test_util.h"
 

@@ -1,4 +1,4 @@
-#include "framework/experiment/results_dir.h"
+#include "orchestration/results_dir.h"
 
 #include "framework/error.h"
 #include "framework/util/rng.h"

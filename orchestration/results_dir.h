@@ -11,8 +11,8 @@
 //   logs/<case id>.log       each case's log; tmp/<host>-<pid>/ each runner's scratch
 #pragma once
 
-#include "framework/experiment/csv.h"
-#include "framework/experiment/experiment.h"
+#include "orchestration/csv.h"
+#include "orchestration/expand.h"
 
 #include <cstdint>
 #include <string>

@@ -1,7 +1,8 @@
 // Executing one case: load and normalise the item, run the input pipeline,
 // the method (timed, with its peak memory), then the metrics.
-#include "framework/experiment/memory.h"
-#include "framework/experiment/runner.h"
+#include "orchestration/case_exec.h"
+
+#include "orchestration/memory.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/normalize.h"
 #include "framework/geometry/transform_file.h"
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 
 namespace arcs {
 
@@ -69,6 +71,73 @@ std::string WriteAtomically(const std::string& path, WriteFn write) {
   return fs::path(path).filename().string();
 }
 
+// Loads the case's item into `data` (reference mesh or curve, or points and
+// their optional reference) and normalises it; returns the transform from
+// the dataset file's frame to the case's normalised frame.
+Similarity LoadItem(const Case& c, Context& ctx, CaseData* data,
+                    const std::function<void(const std::string&, const std::string&)>& set) {
+  const DatasetItem& item = c.source;
+  Similarity to_case_frame;
+  NormalizeOptions no;
+  no.center = c.normalize.center;
+  no.longest_side = c.normalize.longest_side;
+  no.random_rotation = c.normalize.random_rotation;
+  no.rotation_seed = static_cast<std::uint64_t>(c.normalize.rotation_seed);
+  switch (item.kind) {
+    case ItemKind::kBuiltinCurve:
+    case ItemKind::kCurveFile:
+      data->reference_curve =
+          item.kind == ItemKind::kBuiltinCurve ? MakeBuiltinCurve(item.name) : ReadPolyline(item.path);
+      if (c.normalize.enabled) NormalizeCurve(&*data->reference_curve, c.normalize.longest_side, c.normalize.center);
+      set("ref_components", std::to_string(ComputeCurveTopology(*data->reference_curve).components));
+      return to_case_frame;
+    case ItemKind::kPointFile: {
+      PointReadReport report;
+      data->points = ReadPointCloud(item.path, &report);
+      if (!report.skipped_lines.empty())
+        ctx.Warn(item.path + ": skipped " + std::to_string(report.skipped_lines.size()) +
+                 " malformed line(s), first at line " + std::to_string(report.skipped_lines.front()));
+      for (const auto& w : report.warnings) ctx.Warn(item.path + ": " + w);
+      set("input_points", std::to_string(data->points->Size()));
+      if (!c.reference_path.empty()) data->reference = ReadMesh(c.reference_path);
+      if (c.normalize.enabled) {
+        const Similarity t = NormalizeTransform(data->points->P, no);
+        to_case_frame = t;
+        ApplySimilarity(t, &data->points->P);
+        if (data->points->HasNormals()) {
+          // Rotation only: normals are directions.
+          data->points->N = (data->points->N * t.rotation.transpose()).eval();
+        }
+        if (data->reference) *data->reference = ApplySimilarity(t, *data->reference);
+      }
+      return to_case_frame;
+    }
+    case ItemKind::kBuiltinShape:
+    case ItemKind::kMeshFile:
+      if (item.kind == ItemKind::kBuiltinShape) {
+        data->reference = MakeBuiltinShape(item.name);
+      } else {
+        MeshReadReport mrep;
+        data->reference = ReadMesh(item.path, &mrep);
+        for (const auto& w : mrep.warnings) ctx.Warn(item.path + ": " + w);
+        if (data->reference->NumFaces() == 0)
+          throw InputError(item.path, 0, "the mesh has no triangle faces (" +
+                                             std::to_string(data->reference->NumVertices()) + " vertices)");
+      }
+      if (c.normalize.enabled) {
+        try {
+          to_case_frame = Normalize(&*data->reference, no);
+        } catch (const InputError&) {
+          throw;
+        } catch (const Error& e) {
+          throw InputError(item.Key(), 0, e.what());
+        }
+      }
+      return to_case_frame;
+  }
+  return to_case_frame;
+}
+
 }  // namespace
 
 std::string OutputStem(const Case& c) {
@@ -117,68 +186,18 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
   CaseData data;
   data.registry = &registry;
   data.item = c.item;
-  data.item_path = c.item_path;
+  data.item_path = c.source.Key();
   // Seeds: inputs and metrics depend only on (seed, item, input), so every
   // method of a case group sees the same samples and the same metric draws;
   // the method's own stream also depends on the method.
-  const std::string item_key = c.item_path + "|" + c.input;
+  const std::string item_key = c.source.Key() + "|" + c.input;
   std::string input_key = item_key;
   for (const auto& s : c.input_stages) input_key += "|" + s.stage + FormatParamValue(std::make_shared<StageSpec>(s));
   Context ctx(HashSeed(c.seed, Fnv1a64(input_key)));
   ctx.set_log(log);
   try {
     // 1. The dataset item.
-    Similarity to_case_frame;  // dataset file -> the case's normalised frame (recorded beside saved outputs)
-    NormalizeOptions no;
-    no.center = c.normalize.center;
-    no.longest_side = c.normalize.longest_side;
-    no.random_rotation = c.normalize.random_rotation;
-    no.rotation_seed = static_cast<std::uint64_t>(c.normalize.rotation_seed);
-    if (c.kind == "curves") {
-      data.reference_curve = c.item_path.rfind("curve:", 0) == 0 ? MakeBuiltinCurve(c.item_path.substr(6))
-                                                                  : ReadPolyline(c.item_path);
-      if (c.normalize.enabled) NormalizeCurve(&*data.reference_curve, c.normalize.longest_side, c.normalize.center);
-      set("ref_components", std::to_string(ComputeCurveTopology(*data.reference_curve).components));
-    } else if (c.kind == "points") {
-      PointReadReport report;
-      data.points = ReadPointCloud(c.item_path, &report);
-      if (!report.skipped_lines.empty())
-        ctx.Warn(c.item_path + ": skipped " + std::to_string(report.skipped_lines.size()) +
-                 " malformed line(s), first at line " + std::to_string(report.skipped_lines.front()));
-      for (const auto& w : report.warnings) ctx.Warn(c.item_path + ": " + w);
-      set("input_points", std::to_string(data.points->Size()));
-      if (!c.reference_path.empty()) data.reference = ReadMesh(c.reference_path);
-      if (c.normalize.enabled) {
-        const Similarity t = NormalizeTransform(data.points->P, no);
-        to_case_frame = t;
-        ApplySimilarity(t, &data.points->P);
-        if (data.points->HasNormals()) {
-          // Rotation only: normals are directions.
-          data.points->N = (data.points->N * t.rotation.transpose()).eval();
-        }
-        if (data.reference) *data.reference = ApplySimilarity(t, *data.reference);
-      }
-    } else {
-      if (c.item_path.rfind("shape:", 0) == 0) {
-        data.reference = MakeBuiltinShape(c.item_path.substr(6));
-      } else {
-        MeshReadReport mrep;
-        data.reference = ReadMesh(c.item_path, &mrep);
-        for (const auto& w : mrep.warnings) ctx.Warn(c.item_path + ": " + w);
-        if (data.reference->NumFaces() == 0)
-          throw InputError(c.item_path, 0, "the mesh has no triangle faces (" +
-                                               std::to_string(data.reference->NumVertices()) + " vertices)");
-      }
-      if (c.normalize.enabled) {
-        try {
-          to_case_frame = Normalize(&*data.reference, no);
-        } catch (const InputError&) {
-          throw;
-        } catch (const Error& e) {
-          throw InputError(c.item_path, 0, e.what());
-        }
-      }
-    }
+    const Similarity to_case_frame = LoadItem(c, ctx, &data, set);  // dataset file -> the case's frame
     if (data.reference) {
       const Topology rt = ComputeTopology(*data.reference);
       set("ref_faces", std::to_string(rt.faces));
@@ -213,7 +232,7 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
       const std::string base = (std::filesystem::path(outputs_dir) / OutputStem(c)).string();
       if (data.output && !data.output->Empty()) {
         set("output_file", WriteAtomically(base + ".ply", [&](const std::string& f) { WriteMesh(f, *data.output); }));
-        WriteTransformSidecar(base + ".ply", to_case_frame, "the case's normalised frame of " + c.item_path);
+        WriteTransformSidecar(base + ".ply", to_case_frame, "the case's normalised frame of " + c.source.Key());
       }
       else if (data.output_curve && !data.output_curve->Empty())
         set("output_file",
@@ -226,7 +245,7 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
         std::filesystem::rename(part, ref);
         set("reference_file", ref.filename().string());
       }
-      if (c.kind != "points" && data.points && data.points->Size() > 0)
+      if (c.source.kind != ItemKind::kPointFile && data.points && data.points->Size() > 0)
         set("output_points_file", WriteAtomically(base + "_points.ply", [&](const std::string& f) {
               WritePointCloud(f, *data.points);
             }));

@@ -1,6 +1,6 @@
-#include "framework/experiment/yaml_check.h"
+#include "orchestration/yaml_check.h"
 
-#include "framework/experiment/experiment.h"
+#include "orchestration/yaml_decode.h"
 
 #include <map>
 #include <vector>

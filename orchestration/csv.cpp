@@ -1,4 +1,4 @@
-#include "framework/experiment/csv.h"
+#include "orchestration/csv.h"
 
 #include "framework/error.h"
 

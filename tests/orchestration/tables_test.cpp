@@ -1,6 +1,6 @@
-#include "framework/experiment/csv.h"
-#include "framework/experiment/experiment.h"
-#include "framework/experiment/tables.h"
+#include "orchestration/csv.h"
+#include "orchestration/spec.h"
+#include "orchestration/tables.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>

@@ -1,4 +1,5 @@
-#include "framework/experiment/experiment.h"
+#include "orchestration/expand.h"
+#include "orchestration/spec.h"
 #include "stages/builtin.h"
 #include "tests/test_util.h"
 
