@@ -15,13 +15,14 @@ arcs="$build/app/arcs"
 shared="${ARCS_SHARED_DIR:-$here/../shared}"
 export ARCS_SHARED_DIR="$shared"
 mkdir -p "$work"
-# Metric columns only: drop *_s timing columns, host, revision and the like.
+# Metric columns only: drop timing and memory columns, host, revision and the like.
 strip_csv() {
   python3 - "$1" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 if not rows: sys.exit(0)
-drop = lambda k: k.endswith("_s") or k in ("host", "git_revision", "threads", "shard", "started", "finished", "pid")
+# Wall times (*_s) and memory (*_mb) vary from run to run; so do the host facts.
+drop = lambda k: k.endswith("_s") or k.endswith("_mb") or k in ("host", "git_revision", "threads", "shard", "started", "finished", "pid")
 keys = [k for k in rows[0] if not drop(k)]
 rows.sort(key=lambda r: r.get("case_id", ""))
 for r in rows: print(",".join(r[k] for k in keys))
