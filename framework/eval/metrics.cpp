@@ -54,6 +54,10 @@ double MaxDistance(const TriangleBvh& bvh, const MatrixX3d& Q) {
 
 }  // namespace
 
+void SampledMetricOptions::Check() const {
+  ARCS_CHECK_OPTION(samples >= 1 && samples <= 100000000, "samples", samples, "in [1, 1e8]");
+}
+
 double ChamferPaper(const Mesh& a, const Mesh& b, std::int64_t samples, std::uint64_t seed) {
   RequireNonEmpty(a, "ChamferPaper", "A");
   RequireNonEmpty(b, "ChamferPaper", "B");

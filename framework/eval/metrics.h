@@ -14,6 +14,13 @@
 
 namespace arcs {
 
+// The setting of the sampled metrics (ChamferPaper, ChamferPointToSurface,
+// HausdorffSampled) as their stages take it.
+struct SampledMetricOptions {
+  std::int64_t samples = 1000000;  // area-uniform samples per mesh, in [1, 1e8] (paper: 10^6)
+  void Check() const;              // OptionError naming the field
+};
+
 // The paper's Chamfer distance: `samples` area-uniform points on each mesh,
 // d1 = distance of each sample of A to the nearest *sample* of B (kd-tree),
 // d2 likewise from B to A; returns sqrt(mean d1^2) + sqrt(mean d2^2) (the sum

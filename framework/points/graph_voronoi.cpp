@@ -126,12 +126,13 @@ struct CycleSearch {
 void GraphVoronoiOptions::Check() const {
   ARCS_CHECK_OPTION(kappa >= 1 && kappa <= 256, "kappa", kappa, "in [1, 256]");
   ARCS_CHECK_OPTION(k >= 1 && k <= 1000, "k", k, "in [1, 1000]");
-  ARCS_CHECK_OPTION(a >= 0, "a", a, ">= 0");
+  ARCS_CHECK_OPTION(a >= 0 && a <= 1000000, "a", a, "in [0, 1e6]");
   ARCS_CHECK_OPTION(max_face_size >= 3 && max_face_size <= 64, "max_face_size", max_face_size,
                     "in [3, 64]");
-  ARCS_CHECK_OPTION(cycle_search_budget >= 1, "cycle_search_budget", cycle_search_budget, ">= 1");
-  ARCS_CHECK_OPTION(outlier_ratio == 0.0 || (std::isfinite(outlier_ratio) && outlier_ratio >= 1.0),
-                    "outlier_ratio", outlier_ratio, "0 (off) or a finite value >= 1");
+  ARCS_CHECK_OPTION(cycle_search_budget >= 1 && cycle_search_budget <= 1000000000, "cycle_search_budget",
+                    cycle_search_budget, "in [1, 1e9]");
+  ARCS_CHECK_OPTION(outlier_ratio == 0.0 || (outlier_ratio >= 1.0 && outlier_ratio <= 1e12), "outlier_ratio",
+                    outlier_ratio, "0 (off) or in [1, 1e12]");
 }
 
 std::vector<int> GreedyKHopIndependentSet(const CsrGraph& g, int k,

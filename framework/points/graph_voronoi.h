@@ -61,6 +61,7 @@
 #pragma once
 
 #include "framework/types.h"
+#include "framework/util/enum_names.h"
 
 #include <array>
 #include <cstdint>
@@ -140,14 +141,16 @@ struct GraphVoronoiOptions {
   // which k spans a surface are untouched (the paper's result). Off: the
   // requested k only (an InputError when it spans no surface).
   bool adapt_k = true;
-  int a = 7;               // adjacency threshold: b12 + b21 > a (paper §3: 7)
+  int a = 7;               // adjacency threshold: b12 + b21 > a (paper §3: 7), in [0, 1e6]
   int max_face_size = 8;   // longest cycle enumerated as a face (paper: faces < 5 in practice)
-  std::int64_t cycle_search_budget = 200000;  // DFS steps per start edge and length
+  std::int64_t cycle_search_budget = 200000;  // DFS steps per start edge and length, in [1, 1e9]
   bool merge_duplicates = true;  // bit-identical points become one node
-  double outlier_ratio = 0.0;    // 0 = keep all points (paper); else see header comment
+  double outlier_ratio = 0.0;    // 0 = keep all points (paper); else in [1, 1e12], see header comment
   bool triangulate = true;       // triangulate faces with more than three vertices
   bool orient = true;            // consistent orientation, components outward (signed volume)
   enum class VertexPosition { kSite, kCellMean } vertex_position = VertexPosition::kSite;
+  static constexpr EnumName<VertexPosition> kVertexPositionNames[] = {{VertexPosition::kSite, "site"},
+                                                                      {VertexPosition::kCellMean, "cell_mean"}};
   // Throws OptionError naming the option and its allowed range.
   void Check() const;
 };

@@ -10,13 +10,13 @@
 namespace arcs {
 
 void BallPivotingOptions::Check() const {
-  ARCS_CHECK_OPTION(radius >= 0 && std::isfinite(radius), "radius", radius, ">= 0 (0 = automatic)");
+  ARCS_CHECK_OPTION(radius >= 0 && radius <= 1e30, "radius", radius, "in [0, 1e30] (0 = automatic)");
   ARCS_CHECK_OPTION(radius_factor >= 0.1 && radius_factor <= 100, "radius_factor", radius_factor, "in [0.1, 100]");
   ARCS_CHECK_OPTION(levels >= 1 && levels <= 8, "levels", levels, "in [1, 8]");
 }
 
 void AlphaShapeOptions::Check() const {
-  ARCS_CHECK_OPTION(radius >= 0 && std::isfinite(radius), "radius", radius, ">= 0 (0 = automatic)");
+  ARCS_CHECK_OPTION(radius >= 0 && radius <= 1e30, "radius", radius, "in [0, 1e30] (0 = automatic)");
   if (rule != "spacing" && rule != "optimal") throw OptionError("rule = " + rule + ": must be one of {spacing, optimal}");
   ARCS_CHECK_OPTION(radius_factor >= 0.1 && radius_factor <= 1000, "radius_factor", radius_factor, "in [0.1, 1000]");
 }

@@ -32,10 +32,10 @@ std::vector<Pose> Poses(const Mesh& mesh, const SweepOptions& o, Vec3* center) {
 }  // namespace
 
 void SweepOptions::Check() const {
-  ARCS_CHECK_OPTION(steps >= 2 && steps <= 4096, "sweep steps", steps, "in [2, 4096]");
-  if (!translation.allFinite()) throw OptionError("sweep translation: must be finite");
-  ARCS_CHECK_OPTION(std::isfinite(angle_deg), "sweep angle_deg", angle_deg, "finite");
-  if (angle_deg != 0.0 && !(axis.norm() > 0)) throw OptionError("sweep axis: must be a non-zero vector");
+  ARCS_CHECK_OPTION(steps >= 2 && steps <= 4096, "steps", steps, "in [2, 4096]");
+  if (!translation.allFinite()) throw OptionError("translation: must be finite");
+  ARCS_CHECK_OPTION(std::isfinite(angle_deg), "angle_deg", angle_deg, "finite");
+  if (angle_deg != 0.0 && !(axis.norm() > 0)) throw OptionError("axis: must be a non-zero vector");
 }
 
 Mesh SweepPoses(const Mesh& mesh, const SweepOptions& o) {

@@ -17,7 +17,7 @@
 namespace arcs {
 
 void SdfGridOptions::Check() const {
-  ARCS_CHECK_OPTION(n >= 1 && n <= 2000, "n", n, "an integer in [1, 2000]");
+  ARCS_CHECK_OPTION(n >= 1 && n <= 2048, "n", n, "an integer in [1, 2048]");
   ARCS_CHECK_OPTION(std::isfinite(lo), "lo", lo, "finite");
   ARCS_CHECK_OPTION(std::isfinite(hi) && hi > lo, "hi", hi, "finite and greater than lo");
   ARCS_CHECK_OPTION(std::isfinite(fwn_beta) && fwn_beta > 0.0, "fwn_beta", fwn_beta,
@@ -184,8 +184,28 @@ SdfSamples SampleSdfRandom(const Mesh& mesh, std::int64_t count, double lo, doub
   return out;
 }
 
-void AddGaussianNoise(SdfSamples* samples, double sigma, std::uint64_t seed) {
+void SdfRandomOptions::Check() const {
+  ARCS_CHECK_OPTION(count >= 1 && count <= 1000000000, "count", count, "an integer in [1, 1e9]");
+  ARCS_CHECK_OPTION(std::isfinite(lo), "lo", lo, "finite");
+  ARCS_CHECK_OPTION(std::isfinite(hi) && hi > lo, "hi", hi, "finite and greater than lo");
+}
+
+SdfSamples SampleSdfRandom(const Mesh& mesh, const SdfRandomOptions& o, const Context& ctx,
+                           SdfSignReport* report) {
+  o.Check();
+  return SampleSdfRandom(mesh, o.count, o.lo, o.hi, ctx, o.sign, o.inside, report);
+}
+
+void SdfNoiseOptions::Check() const {
   ARCS_CHECK_OPTION(std::isfinite(sigma) && sigma >= 0.0, "sigma", sigma, "a finite number >= 0");
+}
+
+void SdfClampOptions::Check() const {
+  ARCS_CHECK_OPTION(std::isfinite(clamp) && clamp > 0.0, "clamp", clamp, "a finite number > 0");
+}
+
+void AddGaussianNoise(SdfSamples* samples, double sigma, std::uint64_t seed) {
+  SdfNoiseOptions{sigma}.Check();
   if (sigma == 0.0) return;
   VectorXd& v = samples->values;
   ParallelFor(v.size(), [&](std::int64_t b, std::int64_t e) {
@@ -197,7 +217,7 @@ void AddGaussianNoise(SdfSamples* samples, double sigma, std::uint64_t seed) {
 }
 
 void ClampSdf(SdfSamples* samples, double clamp) {
-  ARCS_CHECK_OPTION(std::isfinite(clamp) && clamp > 0.0, "clamp", clamp, "a finite number > 0");
+  SdfClampOptions{clamp}.Check();
   for (Eigen::Index i = 0; i < samples->values.size(); ++i) {
     samples->values[i] = std::clamp(samples->values[i], -clamp, clamp);
   }

@@ -15,6 +15,7 @@
 
 #include "framework/context.h"
 #include "framework/types.h"
+#include "framework/util/enum_names.h"
 
 #include <cstdint>
 #include <string>
@@ -27,6 +28,8 @@ enum class SdfSign {
   kFastWindingNumber,   // hierarchical winding number (libigl's fast_winding_number in the paper)
   kExactWindingNumber,  // sum over all triangles, O(#F) per point
 };
+inline constexpr EnumName<SdfSign> kSdfSignNames[] = {{SdfSign::kFastWindingNumber, "fast_winding_number"},
+                                                      {SdfSign::kExactWindingNumber, "exact_winding_number"}};
 
 // Signed distances of `points` to `mesh`: |s| = exact distance to the
 // triangles, s < 0 iff the winding number w > 1/2. (numpy's sign(1 - 2w)
@@ -41,6 +44,8 @@ enum class SdfInside {
   kVoxelizer,  // the voxelizer's rule (orientation-independent, open-mesh shell); default
   kWinding,    // w > 1/2 with the mesh as oriented (the paper's sign(1 - 2w))
 };
+inline constexpr EnumName<SdfInside> kSdfInsideNames[] = {{SdfInside::kVoxelizer, "voxelizer"},
+                                                          {SdfInside::kWinding, "winding"}};
 
 // How the sign of one sampling was decided, for the per-case report.
 struct SdfSignReport {
@@ -54,7 +59,7 @@ struct SdfSignReport {
 
 struct SdfGridOptions {
   using Sign = SdfSign;
-  int n = 20;          // cells per axis: (n+1)^3 nodes of linspace(lo, hi, n+1)^3 (paper: 6..100)
+  int n = 20;          // cells per axis, in [1, 2048]: (n+1)^3 nodes of linspace(lo, hi, n+1)^3 (paper: 6..100)
   double lo = -1.0;    // box lower corner on every axis (paper: -1, the shape fills about [-0.5, 0.5])
   double hi = 1.0;     // box upper corner on every axis (paper: 1)
   Sign sign = Sign::kFastWindingNumber;  // sign method (paper: fast winding number)
@@ -82,12 +87,34 @@ SdfSamples SampleSdfRandom(const Mesh& mesh, std::int64_t count, double lo, doub
                            const Context& ctx, SdfSign sign = SdfSign::kFastWindingNumber,
                            SdfInside inside = SdfInside::kVoxelizer, SdfSignReport* report = nullptr);
 
+// The settings of SampleSdfRandom as one struct (the sdf_random stage's).
+struct SdfRandomOptions {
+  std::int64_t count = 10000;  // samples, in [1, 1e9]
+  double lo = -1.0;            // box lower corner on every axis (finite)
+  double hi = 1.0;             // box upper corner on every axis (finite, > lo)
+  SdfSign sign = SdfSign::kFastWindingNumber;
+  SdfInside inside = SdfInside::kVoxelizer;
+  void Check() const;  // OptionError naming the field
+};
+SdfSamples SampleSdfRandom(const Mesh& mesh, const SdfRandomOptions& options, const Context& ctx,
+                           SdfSignReport* report = nullptr);
+
 // Adds N(0, sigma^2) noise to every value (per-index RNG from HashSeed(seed, i)).
 // sigma >= 0; sigma = 0 leaves the values unchanged.
 void AddGaussianNoise(SdfSamples* samples, double sigma, std::uint64_t seed);
+// AddGaussianNoise's setting; Check(): sigma finite and >= 0 (the sdf_noise stage's default 0.01).
+struct SdfNoiseOptions {
+  double sigma = 0.01;
+  void Check() const;
+};
 
 // Clamps the values to [-clamp, clamp] and records samples->clamp = clamp
 // (clamp > 0): afterwards |s| = clamp only says "at least clamp away".
 void ClampSdf(SdfSamples* samples, double clamp);
+// ClampSdf's setting; Check(): clamp finite and > 0 (the sdf_clamp stage's default 0.1).
+struct SdfClampOptions {
+  double clamp = 0.1;
+  void Check() const;
+};
 
 }  // namespace arcs

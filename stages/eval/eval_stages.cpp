@@ -1,67 +1,98 @@
 // Evaluation metrics, each its own named stage (role evaluator). They compare
-// the method's output mesh with the reference mesh and/or the SDF samples.
+// the method's output mesh with the reference mesh and/or the SDF samples,
+// and write metric columns only (no CaseData slot).
 #include "framework/eval/metrics.h"
 #include "framework/spatial/topology.h"
+#include "registry/bind.h"
 #include "stages/builtin.h"
 
 namespace arcs {
 
 namespace {
-void Add(Registry& r, const std::string& name, const std::string& doc, ParamSchema params,
-         std::vector<std::string> outputs, StageFn fn) {
-  RegisterFunctionStage(r, name, Role::kEvaluator, doc, std::move(params), std::move(outputs), std::move(fn));
+
+constexpr Slots kOutputAndReference = {Slot::kOutput, Slot::kReference};
+
+Binder<SampledMetricOptions> SamplesParams(const std::string& doc) {
+  using O = SampledMetricOptions;
+  return Binder<O>().Int("samples", &O::samples, doc, Closed(1, 100000000));
 }
+
+void RunChamfer(Context& ctx, CaseData& d, const SampledMetricOptions& o, const ParamMap&) {
+  d.SetMetric("chamfer", ChamferPaper(*d.output, *d.reference, o.samples, ctx.StreamSeed("chamfer")));
+}
+
+void RunHausdorff(Context&, CaseData& d, const ParamMap&) {
+  d.SetMetric("hausdorff", HausdorffPaper(*d.output, *d.reference));
+}
+
+void RunEnergySdf(Context&, CaseData& d, const ParamMap&) {
+  d.SetMetric("e_sdf", EnergySdf(*d.samples, *d.output));
+}
+
+void RunChamferP2S(Context& ctx, CaseData& d, const SampledMetricOptions& o, const ParamMap&) {
+  d.SetMetric("chamfer_p2s",
+              ChamferPointToSurface(*d.output, *d.reference, o.samples, ctx.StreamSeed("chamfer_p2s")));
+}
+
+void RunHausdorffSampled(Context& ctx, CaseData& d, const SampledMetricOptions& o, const ParamMap&) {
+  d.SetMetric("hausdorff_sampled",
+              HausdorffSampled(*d.output, *d.reference, o.samples, ctx.StreamSeed("hausdorff_sampled")));
+}
+
+void RunTopology(Context&, CaseData& d, const ParamMap&) {
+  const Topology t = ComputeTopology(*d.output);
+  d.SetMetric("out_closed", t.closed);
+  d.SetMetric("out_manifold", t.manifold);
+  d.SetMetric("out_oriented", t.oriented);
+  d.SetMetric("out_genus", t.genus);
+  d.SetMetric("out_components", t.components);
+}
+
+void RunMeshSize(Context&, CaseData& d, const ParamMap&) {
+  const Mesh& m = *d.output;
+  d.SetMetric("out_vertices", m.NumVertices());
+  d.SetMetric("out_faces", m.NumFaces());
+}
+
+// An evaluator without parameters.
+void Add(Registry& r, const std::string& name, const std::string& doc, Slots reads,
+         std::vector<std::string> outputs, StageFn fn) {
+  StageInfo s = DeclareStage(name, Role::kEvaluator, doc, reads, {}, k3D);
+  s.outputs = std::move(outputs);
+  s.factory = FunctionStage(std::move(fn));
+  r.Register(std::move(s));
+}
+
+// An evaluator with a sample count.
+void AddSampled(Registry& r, const std::string& name, const std::string& doc, const std::string& samples_doc,
+                BoundStageFn<SampledMetricOptions> fn) {
+  StageInfo s = DeclareStage(name, Role::kEvaluator, doc, kOutputAndReference, {}, k3D);
+  s.outputs = {name};
+  BindStage<SampledMetricOptions>(s, SamplesParams(samples_doc), std::move(fn));
+  r.Register(std::move(s));
+}
+
 }  // namespace
 
 void RegisterEvalStages(Registry& r) {
-  Add(r, "chamfer",
-      "the paper's Chamfer: sqrt(mean d1^2) + sqrt(mean d2^2), nearest-sample distances between area-uniform samples",
-      ParamSchema().Int("samples", 1000000, "area-uniform samples per mesh (paper: 10^6)", 1, 100000000),
-      {"chamfer"}, [](Context& ctx, CaseData& d, const ParamMap& p) {
-        d.SetMetric("chamfer", ChamferPaper(d.RequireOutput("chamfer"), d.RequireReference("chamfer"),
-                                            p.GetInt("samples"), ctx.StreamSeed("chamfer")));
-      });
+  AddSampled(r, "chamfer",
+             "the paper's Chamfer: sqrt(mean d1^2) + sqrt(mean d2^2), nearest-sample distances between area-uniform "
+             "samples",
+             "area-uniform samples per mesh (paper: 10^6)", RunChamfer);
   Add(r, "hausdorff",
       "the paper's Hausdorff: max over the vertices of each mesh of the distance to the other surface (a lower bound)",
-      ParamSchema(), {"hausdorff"}, [](Context&, CaseData& d, const ParamMap&) {
-        d.SetMetric("hausdorff", HausdorffPaper(d.RequireOutput("hausdorff"), d.RequireReference("hausdorff")));
-      });
+      kOutputAndReference, {"hausdorff"}, RunHausdorff);
   Add(r, "e_sdf", "the paper's SDF energy: 1000 * mean_i (|s_i| - dist(p_i, output))^2 over the input samples",
-      ParamSchema(), {"e_sdf"}, [](Context&, CaseData& d, const ParamMap&) {
-        d.SetMetric("e_sdf", EnergySdf(d.RequireSamples("e_sdf"), d.RequireOutput("e_sdf")));
-      });
-  Add(r, "chamfer_p2s",
-      "point-to-surface Chamfer: samples of each mesh to the other *surface*, sqrt(mean d1^2) + sqrt(mean d2^2)",
-      ParamSchema().Int("samples", 1000000, "area-uniform samples per mesh", 1, 100000000), {"chamfer_p2s"},
-      [](Context& ctx, CaseData& d, const ParamMap& p) {
-        d.SetMetric("chamfer_p2s",
-                    ChamferPointToSurface(d.RequireOutput("chamfer_p2s"), d.RequireReference("chamfer_p2s"),
-                                          p.GetInt("samples"), ctx.StreamSeed("chamfer_p2s")));
-      });
-  Add(r, "hausdorff_sampled",
-      "two-sided sampled Hausdorff: max over surface samples and vertices of both meshes to the other surface",
-      ParamSchema().Int("samples", 1000000, "area-uniform samples per mesh", 1, 100000000), {"hausdorff_sampled"},
-      [](Context& ctx, CaseData& d, const ParamMap& p) {
-        d.SetMetric("hausdorff_sampled",
-                    HausdorffSampled(d.RequireOutput("hausdorff_sampled"), d.RequireReference("hausdorff_sampled"),
-                                     p.GetInt("samples"), ctx.StreamSeed("hausdorff_sampled")));
-      });
+      {Slot::kSamples, Slot::kOutput}, {"e_sdf"}, RunEnergySdf);
+  AddSampled(r, "chamfer_p2s",
+             "point-to-surface Chamfer: samples of each mesh to the other *surface*, sqrt(mean d1^2) + sqrt(mean d2^2)",
+             "area-uniform samples per mesh", RunChamferP2S);
+  AddSampled(r, "hausdorff_sampled",
+             "two-sided sampled Hausdorff: max over surface samples and vertices of both meshes to the other surface",
+             "area-uniform samples per mesh", RunHausdorffSampled);
   Add(r, "topology", "output topology: closed, manifold, oriented, genus (-1 if undefined), components",
-      ParamSchema(), {"out_closed", "out_manifold", "out_oriented", "out_genus", "out_components"},
-      [](Context&, CaseData& d, const ParamMap&) {
-        const Topology t = ComputeTopology(d.RequireOutput("topology"));
-        d.SetMetric("out_closed", t.closed);
-        d.SetMetric("out_manifold", t.manifold);
-        d.SetMetric("out_oriented", t.oriented);
-        d.SetMetric("out_genus", t.genus);
-        d.SetMetric("out_components", t.components);
-      });
-  Add(r, "mesh_size", "output vertex and face counts", ParamSchema(), {"out_vertices", "out_faces"},
-      [](Context&, CaseData& d, const ParamMap&) {
-        const Mesh& m = d.RequireOutput("mesh_size");
-        d.SetMetric("out_vertices", m.NumVertices());
-        d.SetMetric("out_faces", m.NumFaces());
-      });
+      {Slot::kOutput}, {"out_closed", "out_manifold", "out_oriented", "out_genus", "out_components"}, RunTopology);
+  Add(r, "mesh_size", "output vertex and face counts", {Slot::kOutput}, {"out_vertices", "out_faces"}, RunMeshSize);
 }
 
 }  // namespace arcs

@@ -4,14 +4,15 @@
 // `reconstructor` / `tuning_reconstructor`. Decisions and measurements:
 // docs/point_reconstructors.md.
 #include "framework/points/point_reconstructors.h"
+#include "registry/bind.h"
 #include "stages/builtin.h"
 
 namespace arcs {
 
 namespace {
-const PointCloud& RequirePoints(const CaseData& d, const char* who) {
-  if (!d.points || d.points->Size() == 0)
-    throw Error(std::string(who) + " needs a point cloud from the dataset (kind: points) or an earlier stage");
+// The contract guarantees a point cloud; an empty one is refused here.
+const PointCloud& NonEmptyPoints(const CaseData& d) {
+  if (d.points->Size() == 0) throw Error("the point cloud is empty");
   return *d.points;
 }
 void SetReport(CaseData& d, const PointReconstructionReport& r) {
@@ -22,76 +23,88 @@ void SetReport(CaseData& d, const PointReconstructionReport& r) {
 }
 const std::vector<std::string> kOutputs = {"recon_points_used", "recon_duplicates_removed", "recon_spacing",
                                            "recon_radius"};
+
+Binder<BallPivotingOptions> BallPivotingParams() {
+  using O = BallPivotingOptions;
+  return Binder<O>()
+      .Double("radius", &O::radius,
+              "smallest ball radius; 0 = radius_factor x point spacing (mean nearest-neighbour distance)",
+              Closed(0.0, 1e30))
+      .Double("radius_factor", &O::radius_factor,
+              "automatic radius in point spacings (3: few small holes on uniform samples, measured)",
+              Closed(0.1, 100.0))
+      .Int("levels", &O::levels, "number of radii r, 2r, 4r, ... (passes with growing balls)", Closed(1, 8));
+}
+
+void RunBallPivoting(Context& ctx, CaseData& d, const BallPivotingOptions& o, const ParamMap&) {
+  PointReconstructionReport rep;
+  d.output = ReconstructBallPivoting(NonEmptyPoints(d), o, ctx, &rep);
+  SetReport(d, rep);
+}
+
+// AlphaShapeOptions::rule is a string (its Check() refuses other names): a
+// choice of the schema, decoded into the struct by the stage.
+Binder<AlphaShapeOptions> AlphaShapeParams() {
+  using O = AlphaShapeOptions;
+  const O def;
+  return Binder<O>()
+      .Double("radius", &O::radius, "alpha as a radius (CGAL's alpha is its square); 0 = automatic (rule)",
+              Closed(0.0, 1e30))
+      .Choice("rule", def.rule, {"spacing", "optimal"},
+              "automatic alpha: radius_factor x CGAL's optimal alpha radius (smallest single solid containing every "
+              "point), or x the point spacing")
+      .Double("radius_factor", &O::radius_factor,
+              "multiplier of the automatic base radius (1.2 x optimal: closed manifold on sphere/torus samples, "
+              "measured)",
+              Closed(0.1, 1000.0));
+}
+
+void RunAlphaShape(Context& ctx, CaseData& d, const AlphaShapeOptions& bound, const ParamMap& p) {
+  AlphaShapeOptions o = bound;
+  o.rule = p.GetString("rule");
+  PointReconstructionReport rep;
+  d.output = ReconstructAlphaShape(NonEmptyPoints(d), o, ctx, &rep);
+  SetReport(d, rep);
+}
+
+Binder<AdvancingFrontOptions> AdvancingFrontParams() {
+  using O = AdvancingFrontOptions;
+  return Binder<O>()
+      .Double("radius_ratio_bound", &O::radius_ratio_bound,
+              "reject candidate facets larger than this multiple of their neighbours (CGAL default)",
+              Closed(1.0, 1000.0))
+      .Double("beta", &O::beta, "sliver angle bound in radians (CGAL default 0.52)",
+              Closed(0.0, 1.5707963267948966));
+}
+
+void RunAdvancingFront(Context& ctx, CaseData& d, const AdvancingFrontOptions& o, const ParamMap&) {
+  PointReconstructionReport rep;
+  d.output = ReconstructAdvancingFront(NonEmptyPoints(d), o, ctx, &rep);
+  SetReport(d, rep);
+}
+
+template <class O>
+void Add(Registry& r, const char* name, const char* doc, const Binder<O>& params, BoundStageFn<O> run) {
+  StageInfo s = DeclareStage(name, Role::kReconstructor, doc, {Slot::kPoints}, {Slot::kOutput}, k3D);
+  s.outputs = kOutputs;
+  BindStage<O>(s, params, std::move(run));
+  r.Register(std::move(s));
+}
 }  // namespace
 
 void RegisterPointReconstructors(Registry& r) {
-  {
-    StageInfo s;
-    s.name = "ball_pivoting";
-    s.role = Role::kReconstructor;
-    s.doc = "ball pivoting (Bernardini et al. 1999; Open3D) on oriented points; radii r, 2r, 4r, ... from the spacing";
-    const BallPivotingOptions def;
-    s.params
-        .Double("radius", def.radius, "smallest ball radius; 0 = radius_factor x point spacing (mean nearest-neighbour distance)",
-                0.0, 1e30)
-        .Double("radius_factor", def.radius_factor, "automatic radius in point spacings (3: few small holes on uniform samples, measured)",
-                0.1, 100.0)
-        .Int("levels", def.levels, "number of radii r, 2r, 4r, ... (passes with growing balls)", 1, 8);
-    s.outputs = kOutputs;
-    s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
-      BallPivotingOptions o;
-      o.radius = p.GetDouble("radius");
-      o.radius_factor = p.GetDouble("radius_factor");
-      o.levels = static_cast<int>(p.GetInt("levels"));
-      PointReconstructionReport rep;
-      d.output = ReconstructBallPivoting(RequirePoints(d, "ball_pivoting"), o, ctx, &rep);
-      SetReport(d, rep);
-    });
-    r.Register(std::move(s));
-  }
-  {
-    StageInfo s;
-    s.name = "alpha_shape";
-    s.role = Role::kReconstructor;
-    s.doc = "alpha shape (Edelsbrunner & Muecke 1994; CGAL Alpha_shape_3): boundary of the regularized solid, wound outward";
-    const AlphaShapeOptions def;
-    s.params.Double("radius", def.radius, "alpha as a radius (CGAL's alpha is its square); 0 = automatic (rule)", 0.0, 1e30)
-        .Choice("rule", def.rule, {"spacing", "optimal"},
-                "automatic alpha: radius_factor x CGAL's optimal alpha radius (smallest single solid containing every point), or x the point spacing")
-        .Double("radius_factor", def.radius_factor, "multiplier of the automatic base radius (1.2 x optimal: closed manifold on sphere/torus samples, measured)", 0.1, 1000.0);
-    s.outputs = kOutputs;
-    s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
-      AlphaShapeOptions o;
-      o.radius = p.GetDouble("radius");
-      o.rule = p.GetString("rule");
-      o.radius_factor = p.GetDouble("radius_factor");
-      PointReconstructionReport rep;
-      d.output = ReconstructAlphaShape(RequirePoints(d, "alpha_shape"), o, ctx, &rep);
-      SetReport(d, rep);
-    });
-    r.Register(std::move(s));
-  }
-  {
-    StageInfo s;
-    s.name = "advancing_front";
-    s.role = Role::kReconstructor;
-    s.doc = "advancing front surface reconstruction (Cohen-Steiner & Da 2004; CGAL): manifold, oriented; normals optional";
-    const AdvancingFrontOptions def;
-    s.params
-        .Double("radius_ratio_bound", def.radius_ratio_bound,
-                "reject candidate facets larger than this multiple of their neighbours (CGAL default)", 1.0, 1000.0)
-        .Double("beta", def.beta, "sliver angle bound in radians (CGAL default 0.52)", 0.0, 1.5707963267948966);
-    s.outputs = kOutputs;
-    s.factory = FunctionStage([](Context& ctx, CaseData& d, const ParamMap& p) {
-      AdvancingFrontOptions o;
-      o.radius_ratio_bound = p.GetDouble("radius_ratio_bound");
-      o.beta = p.GetDouble("beta");
-      PointReconstructionReport rep;
-      d.output = ReconstructAdvancingFront(RequirePoints(d, "advancing_front"), o, ctx, &rep);
-      SetReport(d, rep);
-    });
-    r.Register(std::move(s));
-  }
+  Add<BallPivotingOptions>(
+      r, "ball_pivoting",
+      "ball pivoting (Bernardini et al. 1999; Open3D) on oriented points; radii r, 2r, 4r, ... from the spacing",
+      BallPivotingParams(), RunBallPivoting);
+  Add<AlphaShapeOptions>(
+      r, "alpha_shape",
+      "alpha shape (Edelsbrunner & Muecke 1994; CGAL Alpha_shape_3): boundary of the regularized solid, wound outward",
+      AlphaShapeParams(), RunAlphaShape);
+  Add<AdvancingFrontOptions>(
+      r, "advancing_front",
+      "advancing front surface reconstruction (Cohen-Steiner & Da 2004; CGAL): manifold, oriented; normals optional",
+      AdvancingFrontParams(), RunAdvancingFront);
 }
 
 }  // namespace arcs

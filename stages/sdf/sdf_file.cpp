@@ -4,17 +4,24 @@
 
 namespace arcs {
 
+namespace {
+
+void RunSdfFile(Context&, CaseData& d, const ParamMap& p) {
+  const std::string& path = p.GetString("path");
+  if (path.empty()) throw OptionError("sdf_file.path: must name a file");
+  d.samples = ReadSdf(path);
+}
+
+}  // namespace
+
 void RegisterSdfFile(Registry& r) {
-  StageInfo s;
-  s.name = "sdf_file";
-  s.role = Role::kSdfSampler;
-  s.doc = "SDF samples read from a file: grid .npy (+ .bounds sidecar), (N,d+1) .npy, or text 'x y z s'";
+  // No Options struct (the path is the whole setting): the schema as is.
+  StageInfo s = DeclareStage(
+      "sdf_file", Role::kSdfSampler,
+      "SDF samples read from a file: grid .npy (+ .bounds sidecar), (N,d+1) .npy, or text 'x y z s'", {},
+      {Slot::kSamples}, kAnyDim);
   s.params.String("path", "", "the file to read");
-  s.factory = FunctionStage([](Context&, CaseData& d, const ParamMap& p) {
-    const std::string& path = p.GetString("path");
-    if (path.empty()) throw OptionError("sdf_file.path: must name a file");
-    d.samples = ReadSdf(path);
-  });
+  s.factory = FunctionStage(RunSdfFile);
   r.Register(std::move(s));
 }
 
