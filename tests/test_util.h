@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <unistd.h>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -25,9 +26,10 @@ inline std::string SharedDir() {
 
 inline std::string SharedData(const std::string& rel) { return SharedDir() + "/data/" + rel; }
 
-// A fresh, empty temporary directory for one test.
+// A fresh, empty temporary directory for one test. The process id in the
+// name keeps concurrent test runs (two checkouts, ctest -j) apart.
 inline std::filesystem::path TempDir(const std::string& name) {
-  auto dir = std::filesystem::temp_directory_path() / ("arcs_test_" + name);
+  auto dir = std::filesystem::temp_directory_path() / ("arcs_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;

@@ -19,8 +19,8 @@ void Poisson2DOptions::Check() const {
                     resolution, "0 (automatic) or in [4, 4096]");
   ARCS_CHECK_OPTION(resolution_shift >= -4 && resolution_shift <= 4, "screened_poisson_2d.resolution_shift",
                     resolution_shift, "in [-4, 4]");
-  ARCS_CHECK_OPTION(std::isfinite(screening) && screening >= 0, "screened_poisson_2d.screening", screening,
-                    "a finite number >= 0");
+  ARCS_CHECK_OPTION(std::isfinite(screening) && screening >= 0 && screening <= 1e6, "screened_poisson_2d.screening",
+                    screening, "in [0, 1e6]");
   ARCS_CHECK_OPTION(std::isfinite(scale) && scale > 1.0 && scale <= 16, "screened_poisson_2d.scale", scale,
                     "in (1, 16]");
   ARCS_CHECK_OPTION(neighbours >= 1 && neighbours <= 64, "screened_poisson_2d.neighbours", neighbours, "in [1, 64]");

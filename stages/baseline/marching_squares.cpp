@@ -6,15 +6,24 @@
 
 namespace arcs {
 
+namespace {
+
+void RunMarchingSquares(Context&, CaseData& d, const ParamMap& p) {
+  const SdfSamples& sm = *d.samples;
+  if (!sm.grid) throw Error("needs samples on a regular grid (e.g. from sdf_grid_2d), got scattered samples");
+  d.output_curve = ToPolyline(MarchingSquares(sm.values, *sm.grid, p.GetDouble("level")));
+}
+
+}  // namespace
+
 void RegisterMarchingSquares(Registry& r) {
-  RegisterFunctionStage(r, "marching_squares", Role::kSdfToMesh,
+  StageInfo s = DeclareStage(
+      "marching_squares", Role::kSdfToMesh,
       "marching squares on 2D grid SDF samples (linear interpolation on edges; the 2D MC baseline of Fig. 5)",
-      ParamSchema().Double("level", 0.0, "iso-value extracted"), {}, [](Context&, CaseData& d, const ParamMap& p) {
-        const SdfSamples& sm = d.RequireSamples("marching_squares");
-        if (sm.dim != 2) throw Error("marching_squares needs 2D samples; use marching_cubes for 3D");
-        if (!sm.grid) throw Error("marching_squares needs samples on a regular grid (e.g. from sdf_grid_2d), got scattered samples");
-        d.output_curve = ToPolyline(MarchingSquares(sm.values, *sm.grid, p.GetDouble("level")));
-      });
+      {Slot::kSamples}, {Slot::kOutput}, k2D);
+  s.params.Double("level", 0.0, "iso-value extracted");
+  s.factory = FunctionStage(RunMarchingSquares);
+  r.Register(std::move(s));
 }
 
 }  // namespace arcs

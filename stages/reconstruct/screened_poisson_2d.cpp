@@ -4,6 +4,7 @@
 #include "stages/reconstruct/screened_poisson_2d.h"
 
 #include "framework/reconstruct/poisson2d.h"
+#include "registry/bind.h"
 #include "stages/builtin.h"
 #include "stages/twins_2d.h"
 
@@ -25,33 +26,40 @@ StageSpec PlanarReconstructorFor(const StageSpec& spec, const Registry* registry
   return StageSpec{twin, registry->Resolve(twin, given)};
 }
 
+namespace {
+
+Binder<Poisson2DOptions> Poisson2DParams() {
+  using O = Poisson2DOptions;
+  return Binder<O>()
+      .Int("resolution", &O::resolution,
+           "grid cells per side; 0 = automatic: 4 sqrt(N) rounded up to a power of two, in [64, 1024]", Closed(0, 4096))
+      .Int("resolution_shift", &O::resolution_shift, "added to the automatic power of two (-1 = half as fine)",
+           Closed(-4, 4))
+      .Double("screening", &O::screening,
+              "screening weight alpha per unit curve length in cells (paper: 10; 0 = unscreened)", Closed(0.0, 1e6))
+      .Double("scale", &O::scale, "grid side / largest extent of the points", LeftOpen(1.0, 16.0))
+      .Double("smoothing", &O::smoothing, "splatting radius of each normal, in multiples of its point spacing",
+              Closed(0.0, 16.0))
+      .Int("neighbours", &O::neighbours, "k of the k-nearest-neighbour density estimate", Closed(1, 64));
+}
+
+void RunScreenedPoisson2D(Context& ctx, CaseData& d, const Poisson2DOptions& o, const ParamMap&) {
+  if (!d.points->HasNormals()) throw Error("needs oriented points (points with normals) from an earlier stage");
+  Poisson2DInfo info;
+  d.output_curve = ReconstructPoisson2D(*d.points, o, ctx, &info);
+  d.SetMetric("poisson2d_resolution", info.resolution);
+}
+
+}  // namespace
+
 void RegisterScreenedPoisson2D(Registry& r) {
-  const Poisson2DOptions def;
-  RegisterFunctionStage(r, "screened_poisson_2d", Role::kReconstructor,
+  StageInfo s = DeclareStage(
+      "screened_poisson_2d", Role::kReconstructor,
       "2D screened Poisson (our own, on a regular grid): oriented 2D points -> closed polylines (RFTA's 2D sPSR)",
-      ParamSchema()
-          .Int("resolution", def.resolution,
-               "grid cells per side; 0 = automatic: 4 sqrt(N) rounded up to a power of two, in [64, 1024]", 0, 4096)
-          .Int("resolution_shift", def.resolution_shift, "added to the automatic power of two (-1 = half as fine)", -4, 4)
-          .Double("screening", def.screening,
-                  "screening weight alpha per unit curve length in cells (paper: 10; 0 = unscreened)", 0.0, 1e6)
-          .Double("scale", def.scale, "grid side / largest extent of the points", 1.01, 16.0)
-          .Double("smoothing", def.smoothing, "splatting radius of each normal, in multiples of its point spacing", 0.0, 16.0)
-          .Int("neighbours", def.neighbours, "k of the k-nearest-neighbour density estimate", 1, 64),
-      {"poisson2d_resolution"}, [](Context& ctx, CaseData& d, const ParamMap& p) {
-        if (!d.points || !d.points->HasNormals())
-          throw Error("screened_poisson_2d needs oriented points (points with normals) from an earlier stage");
-        Poisson2DOptions o;
-        o.resolution = static_cast<int>(p.GetInt("resolution"));
-        o.resolution_shift = static_cast<int>(p.GetInt("resolution_shift"));
-        o.screening = p.GetDouble("screening");
-        o.scale = p.GetDouble("scale");
-        o.smoothing = p.GetDouble("smoothing");
-        o.neighbours = static_cast<int>(p.GetInt("neighbours"));
-        Poisson2DInfo info;
-        d.output_curve = ReconstructPoisson2D(*d.points, o, ctx, &info);
-        d.SetMetric("poisson2d_resolution", info.resolution);
-      });
+      {Slot::kPoints}, {Slot::kOutput}, k2D);
+  BindStage<Poisson2DOptions>(s, Poisson2DParams(), RunScreenedPoisson2D);
+  s.outputs = {"poisson2d_resolution"};
+  r.Register(std::move(s));
 }
 
 }  // namespace arcs

@@ -138,10 +138,12 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
 }  // namespace
 
 void RegisterRfta(Registry& r) {
-  StageInfo s;
-  s.name = "rfta";
-  s.role = Role::kSdfToMesh;
-  s.doc = "Reach for the Arcs (paper Alg. 1): free-space sampling, arc projection, fine-tuning, reconstruction";
+  // The parameters are the nested stages' (sampler, reconstructors) and the
+  // few it forwards to fine_tune and arc_projector, whose own declarations
+  // (and bounds) apply when they run.
+  StageInfo s = DeclareStage("rfta", Role::kSdfToMesh,
+                             "Reach for the Arcs (paper Alg. 1): free-space sampling, arc projection, fine-tuning, reconstruction",
+                             {Slot::kSamples}, {Slot::kFreePoints, Slot::kPoints, Slot::kOutput}, kAnyDim);
   s.params.Stage("sampler", "empty_space_sampler", "rasterize", "empty-space sampler (paper: rasterize)")
       .Int("iterations", 10, "k_max fine-tuning iterations (paper default 10; Table 1/2 runs 20)", 0, 10000)
       .Int("max_points_per_sphere", 3, "n_max tangency points per sphere (paper default 3; Table 1/2 runs 30)", 1, 1000)

@@ -127,3 +127,61 @@ TEST_F(ExperimentTest, ErrorsNameFileLineAndField) {
 
 }  // namespace
 }  // namespace arcs
+
+namespace arcs {
+namespace {
+
+// Issue 11: what an algorithm refuses is refused at load, with FILE:LINE,
+// and so is a pipeline whose stages cannot feed each other.
+constexpr const char* kRftaPipeline = R"(name: contract
+datasets:
+  - name: s
+    shapes: [sphere]
+inputs:
+  - name: grid
+    pipeline:
+      - stage: sdf_grid
+        params: {n: 10}
+methods:
+  - name: RFTA
+    pipeline:
+      - rasterize
+      - stage: arc_projector
+        params: {tol: TOL}
+      - screened_poisson
+metrics: [chamfer]
+)";
+
+std::string With(std::string text, const std::string& from, const std::string& to) {
+  text.replace(text.find(from), from.size(), to);
+  return text;
+}
+
+TEST_F(ExperimentTest, ArcProjectorTolAtItsOpenEndIsRefusedAtLoad) {
+  ExpectError(With(kRftaPipeline, "TOL", "0.1"), {"exp.yaml:15:", "params.tol", "tol = 0.1", "[0, 0.1)"});
+  EXPECT_NO_THROW(LoadExperiment(Write(With(kRftaPipeline, "TOL", "0.05")), {}, registry_));
+}
+
+TEST_F(ExperimentTest, PipelineThatCannotFeedAStageIsRefusedAtLoad) {
+  const std::string no_sampler = With(With(kRftaPipeline, "TOL", "0.001"), "      - rasterize\n", "");
+  ExpectError(no_sampler, {"exp.yaml:13:", "stage 'arc_projector' needs free_points", "rasterize", "method 'RFTA'"});
+  // A 3D mesher on a 2D dataset: the dimension is part of the contract.
+  ExpectError(R"(name: dims
+datasets:
+  - name: c
+    kind: curves
+    shapes: [circle]
+inputs:
+  - name: grid
+    pipeline:
+      - stage: sdf_grid_2d
+        params: {n: 10}
+methods:
+  - name: MC
+    pipeline: [marching_cubes]
+)",
+              {"exp.yaml:13:", "stage 'marching_cubes' works on 3D data", "2D"});
+}
+
+}  // namespace
+}  // namespace arcs
