@@ -42,8 +42,7 @@ OccupancyMap ParseOccupancyMap(const std::string& name) {
 }
 
 void SoftOccupancyOptions::Check() const {
-  ARCS_CHECK_OPTION(std::isfinite(sharpness) && sharpness > 0.0, "sharpness", sharpness,
-                    "a finite number > 0");
+  ARCS_CHECK_OPTION(sharpness > 0.0 && sharpness <= 1e6, "sharpness", sharpness, "in (0, 1e6]");
   ARCS_CHECK_OPTION(std::isfinite(softening) && softening >= 0.0, "softening", softening,
                     "a finite number >= 0");
 }
