@@ -174,12 +174,14 @@ Mesh FitSourceToTarget(const Mesh& source, const VolumeGrid& target) {
   return m;
 }
 
-const char* MorphResidualName(MorphResidual r) { return r == MorphResidual::kSoft ? "soft" : "exact"; }
+const char* MorphResidualName(MorphResidual v) {
+  for (const auto& e : kMorphResidualNames)
+    if (e.value == v) return e.name;
+  return "?";
+}
 
 MorphResidual ParseMorphResidual(const std::string& name) {
-  if (name == "soft") return MorphResidual::kSoft;
-  if (name == "exact") return MorphResidual::kExact;
-  throw OptionError("residual '" + name + "': must be one of {soft, exact}");
+  return EnumFromName(std::span<const EnumName<MorphResidual>>(kMorphResidualNames), name);
 }
 
 void MorphOptions::Check() const {
