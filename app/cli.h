@@ -93,3 +93,89 @@ inline double ParseDouble(const std::string& s, const std::string& what) {
 }
 
 }  // namespace arcs::cli
+
+// Command-line flags made from a stage's parameter schema (registry/bind.h:
+// one declaration per parameter), so a command such as `arcs voxelize` or
+// `arcs morph` takes a stage's parameters with the stage's names, docs,
+// defaults, bounds and the algorithm's own Check(), all from one place.
+#include "registry/registry.h"
+
+#include <cstdint>
+
+namespace arcs::cli {
+
+// One flag: "--open-mesh" for the parameter "open_mesh".
+struct SchemaFlag {
+  std::string flag;
+  ParamSpec spec;
+};
+
+// The flags of `stage`'s int, double, choice and string parameters in schema
+// order: "--" + the name with '_' written '-', or the name `renames` gives
+// (parameter -> flag without "--"); parameters in `skip` get none.
+inline std::vector<SchemaFlag> StageFlags(const Registry& registry, const std::string& stage,
+                                          const std::vector<std::string>& skip = {},
+                                          const std::vector<std::pair<std::string, std::string>>& renames = {}) {
+  std::vector<SchemaFlag> out;
+  for (const ParamSpec& s : registry.Get(stage).params.specs()) {
+    if (s.type != ParamType::kInt && s.type != ParamType::kDouble && s.type != ParamType::kChoice &&
+        s.type != ParamType::kString)
+      continue;
+    if (std::find(skip.begin(), skip.end(), s.name) != skip.end()) continue;
+    std::string f = s.name;
+    std::replace(f.begin(), f.end(), '_', '-');
+    for (const auto& [param, flag] : renames)
+      if (param == s.name) f = flag;
+    out.push_back({"--" + f, s});
+  }
+  return out;
+}
+
+// The flag names, for Parse's list of options that take a value.
+inline std::vector<std::string> FlagNames(const std::vector<SchemaFlag>& flags) {
+  std::vector<std::string> out;
+  for (const auto& f : flags) out.push_back(f.flag);
+  return out;
+}
+
+// Help lines: "  --flag V              doc (default D; RANGE)".
+inline std::string FlagHelp(const std::vector<SchemaFlag>& flags) {
+  std::string out;
+  for (const auto& f : flags) {
+    std::string head = "  " + f.flag + (f.spec.type == ParamType::kChoice ? " C" : f.spec.type == ParamType::kInt ? " N" : " X");
+    if (head.size() < 24) head.resize(24, ' ');
+    else head += ' ';
+    out += head + f.spec.doc + " (default " + FormatParamValue(f.spec.default_value) + "; " + f.spec.RangeText() + ")\n";
+  }
+  return out;
+}
+
+// The stage's parameters resolved from the flags present in `a` (the rest at
+// their defaults), through Registry::Resolve: the schema's bounds and the
+// algorithm's Check() apply. A bad value is a usage error (exit 2) naming
+// the flag and the stage's parameter.
+inline ParamMap ResolveStageFlags(const Registry& registry, const std::string& stage,
+                                  const std::vector<SchemaFlag>& flags, const Args& a) {
+  ParamMap given;
+  for (const auto& f : flags) {
+    if (!a.Has(f.flag)) continue;
+    const std::string text = a.Get(f.flag);
+    if (f.spec.type == ParamType::kInt)
+      given.Set(f.spec.name, static_cast<std::int64_t>(ParseInt64(text, f.flag)));
+    else if (f.spec.type == ParamType::kDouble)
+      given.Set(f.spec.name, ParseDouble(text, f.flag));
+    else
+      given.Set(f.spec.name, text);
+  }
+  try {
+    return registry.Resolve(stage, given);
+  } catch (const OptionError& e) {
+    std::string flag;
+    const std::string what = e.what();
+    for (const auto& f : flags)
+      if (what.rfind(stage + "." + f.spec.name + " ", 0) == 0) flag = f.flag;
+    Usage(what + (flag.empty() ? "" : " (option " + flag + ")"));
+  }
+}
+
+}  // namespace arcs::cli

@@ -12,6 +12,7 @@
 #include "framework/util/parallel.h"
 #include "framework/voxel/morph.h"
 #include "framework/voxel/voxelize.h"
+#include "stages/voxel/voxel_params.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -30,12 +31,17 @@ constexpr const char* kMorphUsage =
     "          [-0.55, 0.55]^3 by winding number > 0.5), or a 3D .npy occupancy grid (inside iff > 0.5;\n"
     "          numpy (nx, ny, nz) order, bounds from --bounds, its .bounds sidecar, or [-1, 1]^3)\n"
     "  OUT     the morphed mesh (in the target mesh's own frame, or the grid's frame for .npy)\n"
-    "options: --res N (64) --iterations N (200) --lr X (0.004) --smooth X (20) --seed N (1) --log CSV\n"
-    "         --threads T --subdivisions S (3) --batch N (4096) --residual soft|exact (soft)\n"
-    "         --form naive|solid_angle (naive) --bounds 'xmin ymin zmin xmax ymax zmax' --every K (10)\n"
-    "         --softening E (1, in voxels; 0 = the paper's eq. 4 unsoftened)";
+    "options: --seed N (1) --log CSV --threads T --bounds 'xmin ymin zmin xmax ymax zmax'\n"
+    "the morph stage's parameters (`arcs describe morph`):\n";
 
-[[noreturn]] void MorphUsage(const std::string& msg) { cli::Usage(msg + "\nusage: arcs " + kMorphUsage); }
+// The morph stage's parameters as flags; refresh_every keeps its flag --every.
+std::vector<cli::SchemaFlag> MorphFlags(const Registry& registry) {
+  return cli::StageFlags(registry, "morph", {}, {{"refresh_every", "every"}});
+}
+
+[[noreturn]] void MorphUsage(const Registry& registry, const std::string& msg) {
+  cli::Usage(msg + "\nusage: arcs " + kMorphUsage + cli::FlagHelp(MorphFlags(registry)));
+}
 
 bool EndsWith(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -49,36 +55,24 @@ Mesh LoadMeshOrShape(const std::string& spec) {
 }  // namespace
 
 int CmdMorph(Registry& registry, int argc, char** argv) {
-  (void)registry;
-  const cli::Args a = cli::Parse(argc, argv, 2,
-                                 {"--res", "--iterations", "--lr", "--smooth", "--seed", "--log", "--threads",
-                                  "--subdivisions", "--batch", "--residual", "--form", "--bounds", "--every", "--softening"},
-                                 {});
-  if (a.positional.size() != 3) MorphUsage("morph needs SOURCE, TARGET and OUT");
+  const std::vector<cli::SchemaFlag> flags = MorphFlags(registry);
+  for (int i = 2; i < argc; ++i)
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      std::printf("usage: arcs %s%s", kMorphUsage, cli::FlagHelp(flags).c_str());
+      return 0;
+    }
+  std::vector<std::string> with_value = cli::FlagNames(flags);
+  for (const char* f : {"--seed", "--log", "--threads", "--bounds"}) with_value.push_back(f);
+  const cli::Args a = cli::Parse(argc, argv, 2, with_value, {});
+  if (a.positional.size() != 3) MorphUsage(registry, "morph needs SOURCE, TARGET and OUT");
   const std::string source_spec = a.positional[0], target_spec = a.positional[1], out = a.positional[2];
 
-  const int res = a.Has("--res") ? cli::ParseInt(a.Get("--res"), "--res", 4, 512) : 64;
-  if (res < 4 || res > 512) MorphUsage("--res must be in [4, 512], got " + std::to_string(res));
-  const int subdiv = a.Has("--subdivisions") ? cli::ParseInt(a.Get("--subdivisions"), "--subdivisions", 0, 8) : 3;
-  if (subdiv < 0 || subdiv > 7) MorphUsage("--subdivisions must be in [0, 7]");
+  // The stage's parameters: its bounds and MorphOptions::Check() through Registry::Resolve.
+  const MorphStageOptions so = MorphParams().Decode(cli::ResolveStageFlags(registry, "morph", flags, a));
+  const int res = so.res, subdiv = so.subdivisions;
+  const MorphOptions& o = so.morph;
   const int threads = a.Has("--threads") ? cli::ParseInt(a.Get("--threads"), "--threads", 0, 4096) : 0;
-  if (threads < 0) MorphUsage("--threads must be >= 0");
-  const int every = a.Has("--every") ? cli::ParseInt(a.Get("--every"), "--every", 1, INT_MAX) : 10;
-  if (every < 1) MorphUsage("--every must be >= 1");
-  MorphOptions o;
-  o.refresh_every = every;
-  if (a.Has("--iterations")) o.iterations = cli::ParseInt(a.Get("--iterations"), "--iterations", 0, 1000000000);
-  if (a.Has("--lr")) o.lr = cli::ParseDouble(a.Get("--lr"), "--lr");
-  if (a.Has("--smooth")) o.smooth = cli::ParseDouble(a.Get("--smooth"), "--smooth");
-  if (a.Has("--softening")) o.softening_voxels = cli::ParseDouble(a.Get("--softening"), "--softening");
-  if (a.Has("--batch")) o.batch = cli::ParseInt(a.Get("--batch"), "--batch", 1, 1000000000);
-  try {
-    if (a.Has("--residual")) o.residual = ParseMorphResidual(a.Get("--residual"));
-    if (a.Has("--form")) o.loss.occupancy.form = ParseWindingForm(a.Get("--form"));
-    o.Check();
-  } catch (const OptionError& e) {
-    MorphUsage(std::string("--") + e.what());
-  }
+  if (threads < 0) MorphUsage(registry, "--threads must be >= 0");
   const std::uint64_t seed = a.Has("--seed") ? static_cast<std::uint64_t>(cli::ParseInt64(a.Get("--seed"), "--seed", 0)) : 1;
 
   // A source file is read first: a bad file fails before the target is voxelised.
@@ -90,12 +84,12 @@ int CmdMorph(Registry& registry, int argc, char** argv) {
   const bool npy_target = EndsWith(target_spec, ".npy");
   std::array<double, 3> lo{-1, -1, -1}, hi{1, 1, 1};
   if (a.Has("--bounds")) {
-    if (!npy_target) MorphUsage("--bounds applies to a .npy TARGET only");
+    if (!npy_target) MorphUsage(registry, "--bounds applies to a .npy TARGET only");
     std::istringstream in(a.Get("--bounds"));
     for (double* v : {&lo[0], &lo[1], &lo[2], &hi[0], &hi[1], &hi[2]})
-      if (!(in >> *v)) MorphUsage("--bounds needs six numbers 'xmin ymin zmin xmax ymax zmax'");
+      if (!(in >> *v)) MorphUsage(registry, "--bounds needs six numbers 'xmin ymin zmin xmax ymax zmax'");
     for (int k = 0; k < 3; ++k)
-      if (!(hi[k] > lo[k])) MorphUsage("--bounds: max must exceed min on every axis");
+      if (!(hi[k] > lo[k])) MorphUsage(registry, "--bounds: max must exceed min on every axis");
   }
   if (npy_target) {
     const SdfSamples s = ReadSdfGrid(target_spec, lo, hi);

@@ -9,6 +9,7 @@
 #include "framework/io/sdf_io.h"
 #include "framework/util/parallel.h"
 #include "framework/voxel/voxelize.h"
+#include "stages/voxel/voxel_params.h"
 
 #include <cctype>
 #include <chrono>
@@ -21,7 +22,7 @@ namespace arcs {
 
 namespace {
 
-const char* kVoxelizeHelp = R"(usage: arcs voxelize MESH OUT [options]
+const char* kVoxelizeHelpHead = R"(usage: arcs voxelize MESH OUT [options]
 
 Winding-number occupancy (Luo et al., Alg. 1) of MESH on an r x r x r grid.
 OUT.npy is an (r, r, r) array with arr[i, j, k] the value at (x_i, y_j, z_k),
@@ -31,13 +32,10 @@ meshgrid indexing='ij'), plus the sidecar OUT.npy.bounds
 S (that array), bounds (2, 3) and U (the nodes); OUT.txt (.xyzs, .sdf) holds
 one line "x y z value" per node.
 
-  --resolution R        nodes per axis (default 128)
-  --method M            fast (default) | exact | naive | ray_parity
-  --output O            occupancy (default, 0/1) | winding (w)
-  --open-mesh RULE      auto (default: threshold + thin shell on sheet faces)
-                        | none (plain threshold) | flip_dup (paper Alg. 2)
-  --orientation O       abs (default: |w| > 1/2) | as_is (w > 1/2)
-  --epsilon E           Alg. 2 offset / minimum shell thickness (default 0.01)
+The voxelize stage's parameters (`arcs describe voxelize`):
+)";
+
+const char* kVoxelizeHelpTail = R"(
   --normalize           centre the mesh, longest side 2, i.e. into [-1, 1]
                         (default), grid over [-1, 1]^3
   --no-normalize        keep coordinates; grid over the bounding box grown by
@@ -110,35 +108,33 @@ void WriteVolume(const std::string& path, const VolumeGrid& vol, bool f32) {
   if (!b) throw Error("cannot write '" + SdfBoundsPath(path) + "'");
 }
 
+// The stage's flags: every parameter of the voxelize stage but the grid box,
+// whose corners this command takes as --lo / --hi (one number or X,Y,Z) and
+// defaults from --normalize.
+std::vector<cli::SchemaFlag> VoxelizeFlags(const Registry& registry) {
+  return cli::StageFlags(registry, "voxelize", {"lo", "hi"});
+}
+
 }  // namespace
 
 int CmdVoxelize(Registry& registry, int argc, char** argv) {
-  (void)registry;
+  const std::vector<cli::SchemaFlag> flags = VoxelizeFlags(registry);
   for (int i = 2; i < argc; ++i)
     if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-      std::fputs(kVoxelizeHelp, stdout);
+      std::fputs(kVoxelizeHelpHead, stdout);
+      std::fputs(cli::FlagHelp(flags).c_str(), stdout);
+      std::fputs(kVoxelizeHelpTail, stdout);
       return 0;
     }
-  const cli::Args a = cli::Parse(argc, argv, 2,
-                                 {"--resolution", "--method", "--output", "--open-mesh", "--orientation", "--epsilon",
-                                  "--lo", "--hi", "--dtype", "--threads", "--verify-random"},
-                                 {"--normalize", "--no-normalize", "--verify"});
+  std::vector<std::string> with_value = cli::FlagNames(flags);
+  for (const char* f : {"--lo", "--hi", "--dtype", "--threads", "--verify-random"}) with_value.push_back(f);
+  const cli::Args a = cli::Parse(argc, argv, 2, with_value, {"--normalize", "--no-normalize", "--verify"});
   if (a.positional.size() != 2) cli::Usage("voxelize needs MESH and OUT.npy (run `arcs voxelize --help`)");
   const std::string in = a.positional[0], out = a.positional[1];
   CheckVolumeExtension(out);
-  VoxelizeOptions o;
-  o.method = a.Get("--method", o.method);
-  o.output = a.Get("--output", o.output);
-  o.open_mesh = a.Get("--open-mesh", o.open_mesh);
-  o.orientation = a.Get("--orientation", o.orientation);
-  if (a.Has("--epsilon")) o.epsilon = cli::ParseDouble(a.Get("--epsilon"), "--epsilon");
-  try {
-    o.Check();
-  } catch (const OptionError& e) {
-    cli::Usage(std::string("voxelize: ") + e.what());
-  }
-  const int res = a.Has("--resolution") ? cli::ParseInt(a.Get("--resolution"), "--resolution", 2, 2048) : 128;
-  if (res < 2 || res > 2048) cli::Usage("--resolution must be in [2, 2048], got " + std::to_string(res));
+  const VoxelizeStageOptions so = VoxelizeParams().Decode(cli::ResolveStageFlags(registry, "voxelize", flags, a));
+  const VoxelizeOptions& o = so.voxelize;
+  const int res = so.resolution;
   const std::string dtype = a.Get("--dtype", "float32");
   if (dtype != "float32" && dtype != "float64") cli::Usage("--dtype must be float32 or float64, got '" + dtype + "'");
   if (a.Has("--normalize") && a.Has("--no-normalize")) cli::Usage("--normalize and --no-normalize exclude each other");

@@ -112,6 +112,17 @@ class Binder {
                [field, t](const O& o) { return ParamValue(EnumToName(t, o.*field)); });
   }
 
+  // A choice bound to a std::string field (an Options struct that keeps its
+  // choices as text, e.g. VoxelizeOptions::method); the default is the field's.
+  Binder& Choice(const std::string& name, std::string O::*field, std::vector<std::string> choices,
+                 const std::string& doc) {
+    ParamSpec s = Spec(name, ParamType::kChoice, doc, {});
+    s.choices = std::move(choices);
+    s.default_value = (*defaults_).*field;
+    return Add(std::move(s), [field](O& o, const ParamValue& v) { o.*field = std::get<std::string>(v); },
+               [field](const O& o) { return ParamValue(o.*field); });
+  }
+
   // A nested option group: every parameter of `group` (or those named in
   // `only`, in the group's order) is a parameter of this stage, bound to the
   // same field of the member `field` (e.g. the make-feasible settings that

@@ -24,6 +24,7 @@
 
 #include "framework/context.h"
 #include "framework/types.h"
+#include "framework/util/enum_names.h"
 
 namespace arcs {
 
@@ -99,6 +100,9 @@ struct PoissonOptions {
   // Throws OptionError naming the field and its allowed range.
   void Check() const;
 };
+// The screened_poisson stage's `backend` names, in its choice order.
+inline constexpr EnumName<PoissonOptions::Backend> kPoissonBackendNames[] = {
+    {PoissonOptions::Backend::kPcl, "pcl"}, {PoissonOptions::Backend::kOpen3d, "open3d"}};
 
 // The depth the automatic rule picks for `points` with `options.scale`:
 //   depth = round(log2(scale * extent / h)) + 1, clamped to [6, 10],

@@ -24,29 +24,37 @@
 namespace arcs {
 
 void RftsOptions::Check() const {
-  ARCS_CHECK_OPTION(max_iterations >= 0, "rfts.max_iterations", max_iterations, ">= 0");
-  ARCS_CHECK_OPTION(tol > 0 && std::isfinite(tol), "rfts.tol", tol, "a finite number > 0");
-  ARCS_CHECK_OPTION(initial_edge_length > 0 && std::isfinite(initial_edge_length), "rfts.initial_edge_length",
-                    initial_edge_length, "a finite number > 0");
-  ARCS_CHECK_OPTION(min_edge_length >= 0 && min_edge_length <= initial_edge_length, "rfts.min_edge_length",
-                    min_edge_length, "0 (heuristic) or in (0, initial_edge_length]");
-  ARCS_CHECK_OPTION(min_step > 0 && min_step <= max_step && std::isfinite(max_step), "rfts.min_step", min_step,
-                    "> 0 and <= max_step (finite)");
-  ARCS_CHECK_OPTION(fixed_step > 0 && std::isfinite(fixed_step), "rfts.fixed_step", fixed_step, "> 0");
-  ARCS_CHECK_OPTION(batch_size >= 0, "rfts.batch_size", batch_size, ">= 0 (0 = all samples)");
-  ARCS_CHECK_OPTION(remesh_iterations >= 0, "rfts.remesh_iterations", remesh_iterations, ">= 0");
-  ARCS_CHECK_OPTION(split_ratio > 1, "rfts.split_ratio", split_ratio, "> 1");
-  ARCS_CHECK_OPTION(collapse_ratio > 0 && collapse_ratio < split_ratio, "rfts.collapse_ratio", collapse_ratio,
-                    "in (0, split_ratio)");
-  ARCS_CHECK_OPTION(patience >= 1, "rfts.patience", patience, ">= 1");
-  ARCS_CHECK_OPTION(max_stall >= patience, "rfts.max_stall", max_stall, ">= patience");
-  ARCS_CHECK_OPTION(barycentric_threshold >= 0 && barycentric_threshold < 1.0 / 3.0, "rfts.barycentric_threshold",
+  // Hard limits of the algorithm and sane caps (the rfts stage declares the
+  // same bounds; tests/registry/bounds_agree_test.cpp checks they agree).
+  ARCS_CHECK_OPTION(max_iterations >= 0 && max_iterations <= 100000000, "max_iterations", max_iterations,
+                    "in [0, 1e8]");
+  ARCS_CHECK_OPTION(tol > 0 && tol <= 1.0, "tol", tol, "in (0, 1]");
+  ARCS_CHECK_OPTION(initial_edge_length > 0 && initial_edge_length <= 10.0, "initial_edge_length",
+                    initial_edge_length, "in (0, 10]");
+  // min_edge_length >= initial_edge_length: h is never halved.
+  ARCS_CHECK_OPTION(min_edge_length >= 0 && min_edge_length <= 10.0, "min_edge_length", min_edge_length,
+                    "0 (heuristic) or in (0, 10]");
+  // min_step <= 1 <= max_step, so the clamp of t is never empty.
+  ARCS_CHECK_OPTION(min_step > 0 && min_step <= 1.0, "min_step", min_step, "in (0, 1]");
+  ARCS_CHECK_OPTION(max_step >= 1.0 && max_step <= 1e6, "max_step", max_step, "in [1, 1e6]");
+  ARCS_CHECK_OPTION(fixed_step > 0 && fixed_step <= 1e6, "fixed_step", fixed_step, "in (0, 1e6]");
+  ARCS_CHECK_OPTION(batch_size >= 0 && batch_size <= 1000000000, "batch_size", batch_size,
+                    "in [0, 1e9] (0 = all samples)");
+  ARCS_CHECK_OPTION(remesh_iterations >= 0 && remesh_iterations <= 100, "remesh_iterations", remesh_iterations,
+                    "in [0, 100]");
+  // collapse_ratio <= 1 < split_ratio: the remesher's two thresholds never cross.
+  ARCS_CHECK_OPTION(split_ratio > 1 && split_ratio <= 10.0, "split_ratio", split_ratio, "in (1, 10]");
+  ARCS_CHECK_OPTION(collapse_ratio > 0 && collapse_ratio <= 1.0, "collapse_ratio", collapse_ratio, "in (0, 1]");
+  ARCS_CHECK_OPTION(patience >= 1 && patience <= 1000000, "patience", patience, "in [1, 1e6]");
+  // max_stall < patience: the flow stops before h is ever halved.
+  ARCS_CHECK_OPTION(max_stall >= 1 && max_stall <= 100000000, "max_stall", max_stall, "in [1, 1e8]");
+  ARCS_CHECK_OPTION(barycentric_threshold >= 0 && barycentric_threshold < 1.0 / 3.0, "barycentric_threshold",
                     barycentric_threshold, "in [0, 1/3)");
-  ARCS_CHECK_OPTION(initial_subdivisions >= 0 && initial_subdivisions <= 7, "rfts.initial_subdivisions",
+  ARCS_CHECK_OPTION(initial_subdivisions >= 0 && initial_subdivisions <= 7, "initial_subdivisions",
                     initial_subdivisions, "in [0, 7]");
-  ARCS_CHECK_OPTION(max_area_ratio > 0, "rfts.max_area_ratio", max_area_ratio, "> 0");
-  ARCS_CHECK_OPTION(initial_radius > 0 && std::isfinite(initial_radius), "rfts.initial_radius", initial_radius,
-                    "a finite number > 0");
+  ARCS_CHECK_OPTION(max_area_ratio > 0 && max_area_ratio <= 1e9, "max_area_ratio", max_area_ratio, "in (0, 1e9]");
+  ARCS_CHECK_OPTION(initial_radius > 0 && initial_radius <= 100.0, "initial_radius", initial_radius,
+                    "in (0, 100]");
 }
 
 VectorXd VoronoiMass(const Mesh& m) {

@@ -73,19 +73,20 @@ Fans BuildFans(const MatrixX3i& F, int nv) {
 }  // namespace
 
 void DcsddOptions::Check() const {
-  ARCS_CHECK_OPTION(iterations >= 0, "iterations", iterations, ">= 0");
-  ARCS_CHECK_OPTION(batch_size >= 1, "batch_size", batch_size, ">= 1");
-  ARCS_CHECK_OPTION(band >= 0 && std::isfinite(band), "band", band, "finite and >= 0");
-  ARCS_CHECK_OPTION(drop_distance > 0 && std::isfinite(drop_distance), "drop_distance", drop_distance, "finite and > 0");
-  ARCS_CHECK_OPTION(dc_weight >= 0 && std::isfinite(dc_weight), "dc_weight", dc_weight, "finite and >= 0");
-  ARCS_CHECK_OPTION(proximal_weight > 0 && std::isfinite(proximal_weight), "proximal_weight", proximal_weight,
-                    "finite and > 0 (it keeps every cell solve well posed)");
+  // Hard limits and sane caps (the dcsdd stage declares the same bounds).
+  ARCS_CHECK_OPTION(iterations >= 0 && iterations <= 100000, "iterations", iterations, "in [0, 100000]");
+  ARCS_CHECK_OPTION(batch_size >= 1 && batch_size <= 1000000000, "batch_size", batch_size, "in [1, 1e9]");
+  ARCS_CHECK_OPTION(band >= 0 && band <= 1e6, "band", band, "in [0, 1e6]");
+  ARCS_CHECK_OPTION(drop_distance > 0 && drop_distance <= 1e6, "drop_distance", drop_distance, "in (0, 1e6]");
+  ARCS_CHECK_OPTION(dc_weight >= 0 && dc_weight <= 1e6, "dc_weight", dc_weight, "in [0, 1e6]");
+  ARCS_CHECK_OPTION(proximal_weight > 0 && proximal_weight <= 1e6, "proximal_weight", proximal_weight,
+                    "in (0, 1e6] (> 0 keeps every cell solve well posed)");
   ARCS_CHECK_OPTION(svd_threshold >= 0 && svd_threshold < 1, "svd_threshold", svd_threshold, "in [0, 1)");
   ARCS_CHECK_OPTION(dc_svd_threshold >= 0 && dc_svd_threshold < 1, "dc_svd_threshold", dc_svd_threshold, "in [0, 1)");
-  ARCS_CHECK_OPTION(inner_iterations >= 1, "inner_iterations", inner_iterations, ">= 1");
-  ARCS_CHECK_OPTION(inner_tolerance >= 0 && std::isfinite(inner_tolerance), "inner_tolerance", inner_tolerance,
-                    "finite and >= 0");
-  ARCS_CHECK_OPTION(tolerance >= 0 && std::isfinite(tolerance), "tolerance", tolerance, "finite and >= 0");
+  ARCS_CHECK_OPTION(inner_iterations >= 1 && inner_iterations <= 100000, "inner_iterations", inner_iterations,
+                    "in [1, 100000]");
+  ARCS_CHECK_OPTION(inner_tolerance >= 0 && inner_tolerance <= 1, "inner_tolerance", inner_tolerance, "in [0, 1]");
+  ARCS_CHECK_OPTION(tolerance >= 0 && tolerance <= 1, "tolerance", tolerance, "in [0, 1]");
   ARCS_CHECK_OPTION(blend >= 0 && blend <= 1, "blend", blend, "in [0, 1]");
 }
 

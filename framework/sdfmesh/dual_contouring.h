@@ -31,6 +31,7 @@
 #pragma once
 
 #include "framework/types.h"
+#include "framework/util/enum_names.h"
 
 #include <cstdint>
 
@@ -48,6 +49,9 @@ struct DualContouringOptions {
   bool manifold = false;              // one vertex per MC sheet in a cell (manifold output) instead of one per cell
   void Check() const;
 };
+// The stage's `normals` names, in its choice order.
+inline constexpr EnumName<DualContouringOptions::Normals> kDcNormalsNames[] = {
+    {DualContouringOptions::Normals::kEdge, "edge"}, {DualContouringOptions::Normals::kTrilinear, "trilinear"}};
 
 struct DualContouringStats {
   int vertices = 0;

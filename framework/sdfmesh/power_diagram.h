@@ -19,6 +19,7 @@
 #pragma once
 
 #include "framework/types.h"
+#include "framework/util/enum_names.h"
 
 #include <cstdint>
 
@@ -32,6 +33,9 @@ struct PowerDiagramOptions {
                                    // segment between the two spheres along the edge (linear when they overlap)
   void Check() const;
 };
+// The stage's `vertex` names, in its choice order.
+inline constexpr EnumName<PowerDiagramOptions::Vertex> kPowerVertexNames[] = {
+    {PowerDiagramOptions::Vertex::kLinear, "linear"}, {PowerDiagramOptions::Vertex::kSphereGap, "sphere_gap"}};
 
 struct PowerDiagramStats {
   std::int64_t hidden = 0;       // samples hidden by the weights (not vertices of the triangulation)

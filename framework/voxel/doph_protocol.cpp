@@ -25,7 +25,7 @@ Mesh VolumeToMesh(const VolumeGrid& volume, double level) {
 }
 
 void LaplacianSmoothOptions::Check() const {
-  ARCS_CHECK_OPTION(iterations >= 0, "iterations", iterations, "an integer >= 0");
+  ARCS_CHECK_OPTION(iterations >= 0 && iterations <= 100000, "iterations", iterations, "an integer in [0, 100000]");
   ARCS_CHECK_OPTION(std::isfinite(lambda) && lambda >= 0.0 && lambda <= 1.0, "lambda", lambda, "a number in [0, 1]");
 }
 

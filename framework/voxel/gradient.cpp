@@ -115,14 +115,14 @@ MatrixX3d WindingNumberVjp(const Mesh& mesh, const MatrixX3d& Q, const VectorXd&
   return grad;
 }
 
-const char* OccupancyLossName(OccupancyLossKind k) {
-  return k == OccupancyLossKind::kMse ? "mse" : "bce";
+const char* OccupancyLossName(OccupancyLossKind v) {
+  for (const auto& e : kOccupancyLossNames)
+    if (e.value == v) return e.name;
+  return "?";
 }
 
 OccupancyLossKind ParseOccupancyLoss(const std::string& name) {
-  if (name == "mse") return OccupancyLossKind::kMse;
-  if (name == "bce") return OccupancyLossKind::kBce;
-  throw OptionError("loss '" + name + "': must be one of {mse, bce}");
+  return EnumFromName(std::span<const EnumName<OccupancyLossKind>>(kOccupancyLossNames), name);
 }
 
 double OccupancyLossTerm(double o, double t, OccupancyLossKind kind, double* dldo) {

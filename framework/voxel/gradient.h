@@ -11,6 +11,7 @@
 #pragma once
 
 #include "framework/types.h"
+#include "framework/util/enum_names.h"
 #include "framework/voxel/soft_occupancy.h"
 
 #include <string>
@@ -31,6 +32,8 @@ enum class OccupancyLossKind {
 };
 const char* OccupancyLossName(OccupancyLossKind k);
 OccupancyLossKind ParseOccupancyLoss(const std::string& name);  // "mse" | "bce"
+inline constexpr EnumName<OccupancyLossKind> kOccupancyLossNames[] = {{OccupancyLossKind::kMse, "mse"},
+                                                                     {OccupancyLossKind::kBce, "bce"}};
 
 struct OccupancyLossOptions {
   SoftOccupancyOptions occupancy;  // form (naive = eq. 4) and occupancy map (identity = paper)

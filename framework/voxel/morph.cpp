@@ -174,27 +174,30 @@ Mesh FitSourceToTarget(const Mesh& source, const VolumeGrid& target) {
   return m;
 }
 
-const char* MorphResidualName(MorphResidual r) { return r == MorphResidual::kSoft ? "soft" : "exact"; }
+const char* MorphResidualName(MorphResidual v) {
+  for (const auto& e : kMorphResidualNames)
+    if (e.value == v) return e.name;
+  return "?";
+}
 
 MorphResidual ParseMorphResidual(const std::string& name) {
-  if (name == "soft") return MorphResidual::kSoft;
-  if (name == "exact") return MorphResidual::kExact;
-  throw OptionError("residual '" + name + "': must be one of {soft, exact}");
+  return EnumFromName(std::span<const EnumName<MorphResidual>>(kMorphResidualNames), name);
 }
 
 void MorphOptions::Check() const {
-  ARCS_CHECK_OPTION(iterations >= 0, "iterations", iterations, ">= 0");
-  ARCS_CHECK_OPTION(std::isfinite(lr) && lr > 0.0, "lr", lr, "a finite number > 0");
+  // Hard limits and sane caps (the morph stage and `arcs morph` declare the same bounds).
+  ARCS_CHECK_OPTION(iterations >= 0 && iterations <= 100000, "iterations", iterations, "in [0, 100000]");
+  ARCS_CHECK_OPTION(lr > 0.0 && lr <= 1.0, "lr", lr, "in (0, 1]");
   ARCS_CHECK_OPTION(beta1 >= 0.0 && beta1 < 1.0, "beta1", beta1, "in [0, 1)");
   ARCS_CHECK_OPTION(beta2 >= 0.0 && beta2 < 1.0, "beta2", beta2, "in [0, 1)");
-  ARCS_CHECK_OPTION(std::isfinite(smooth) && smooth >= 0.0, "smooth", smooth, "a finite number >= 0");
-  ARCS_CHECK_OPTION(batch >= 0, "batch", batch, ">= 0 (0 = the whole active set)");
+  ARCS_CHECK_OPTION(smooth >= 0.0 && smooth <= 1e9, "smooth", smooth, "in [0, 1e9]");
+  ARCS_CHECK_OPTION(batch >= 0 && batch <= 100000000, "batch", batch, "in [0, 1e8] (0 = the whole active set)");
   ARCS_CHECK_OPTION(random_fraction >= 0.0 && random_fraction <= 1.0, "random_fraction", random_fraction,
                     "in [0, 1]");
-  ARCS_CHECK_OPTION(band >= 1, "band", band, ">= 1");
-  ARCS_CHECK_OPTION(refresh_every >= 1, "refresh_every", refresh_every, ">= 1");
-  ARCS_CHECK_OPTION(std::isfinite(softening_voxels) && softening_voxels >= 0.0, "softening_voxels",
-                    softening_voxels, "a finite number >= 0");
+  ARCS_CHECK_OPTION(band >= 1 && band <= 64, "band", band, "in [1, 64]");
+  ARCS_CHECK_OPTION(refresh_every >= 1 && refresh_every <= 100000, "refresh_every", refresh_every, "in [1, 100000]");
+  ARCS_CHECK_OPTION(softening_voxels >= 0.0 && softening_voxels <= 100.0, "softening", softening_voxels,
+                    "in [0, 100] voxels");
   loss.Check();
 }
 

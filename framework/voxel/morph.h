@@ -28,6 +28,7 @@
 
 #include "framework/context.h"
 #include "framework/types.h"
+#include "framework/util/enum_names.h"
 #include "framework/voxel/gradient.h"
 
 #include <functional>
@@ -63,6 +64,8 @@ enum class MorphResidual {
 };
 const char* MorphResidualName(MorphResidual r);
 MorphResidual ParseMorphResidual(const std::string& name);  // "soft" | "exact"
+inline constexpr EnumName<MorphResidual> kMorphResidualNames[] = {{MorphResidual::kSoft, "soft"},
+                                                                 {MorphResidual::kExact, "exact"}};
 
 struct MorphOptions {
   int iterations = 200;        // Adam steps

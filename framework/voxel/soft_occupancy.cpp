@@ -15,35 +15,28 @@
 
 namespace arcs {
 
-const char* WindingFormName(WindingForm f) {
-  return f == WindingForm::kSolidAngle ? "solid_angle" : "naive";
+const char* WindingFormName(WindingForm v) {
+  for (const auto& e : kWindingFormNames)
+    if (e.value == v) return e.name;
+  return "?";
 }
 
 WindingForm ParseWindingForm(const std::string& name) {
-  if (name == "solid_angle") return WindingForm::kSolidAngle;
-  if (name == "naive") return WindingForm::kNaive;
-  throw OptionError("winding form '" + name + "': must be one of {solid_angle, naive}");
+  return EnumFromName(std::span<const EnumName<WindingForm>>(kWindingFormNames), name);
 }
 
-const char* OccupancyMapName(OccupancyMap m) {
-  switch (m) {
-    case OccupancyMap::kIdentity: return "identity";
-    case OccupancyMap::kClamp: return "clamp";
-    case OccupancyMap::kSigmoid: return "sigmoid";
-  }
+const char* OccupancyMapName(OccupancyMap v) {
+  for (const auto& e : kOccupancyMapNames)
+    if (e.value == v) return e.name;
   return "?";
 }
 
 OccupancyMap ParseOccupancyMap(const std::string& name) {
-  if (name == "identity") return OccupancyMap::kIdentity;
-  if (name == "clamp") return OccupancyMap::kClamp;
-  if (name == "sigmoid") return OccupancyMap::kSigmoid;
-  throw OptionError("occupancy map '" + name + "': must be one of {identity, clamp, sigmoid}");
+  return EnumFromName(std::span<const EnumName<OccupancyMap>>(kOccupancyMapNames), name);
 }
 
 void SoftOccupancyOptions::Check() const {
-  ARCS_CHECK_OPTION(std::isfinite(sharpness) && sharpness > 0.0, "sharpness", sharpness,
-                    "a finite number > 0");
+  ARCS_CHECK_OPTION(sharpness > 0.0 && sharpness <= 1e6, "sharpness", sharpness, "in (0, 1e6]");
   ARCS_CHECK_OPTION(std::isfinite(softening) && softening >= 0.0, "softening", softening,
                     "a finite number >= 0");
 }

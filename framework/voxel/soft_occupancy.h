@@ -38,6 +38,7 @@
 #pragma once
 
 #include "framework/types.h"
+#include "framework/util/enum_names.h"
 
 #include <string>
 
@@ -50,6 +51,9 @@ enum class WindingForm {
 // "solid_angle" | "naive"; ParseWindingForm throws OptionError for anything else.
 const char* WindingFormName(WindingForm f);
 WindingForm ParseWindingForm(const std::string& name);
+// The names as the morph stage and `arcs morph --form` list them.
+inline constexpr EnumName<WindingForm> kWindingFormNames[] = {{WindingForm::kNaive, "naive"},
+                                                             {WindingForm::kSolidAngle, "solid_angle"}};
 
 // Per-triangle winding-number contribution w_f(q) (solid angle / 4π, or the
 // eq. 4 term), and, when `grad` is not null, its derivatives with respect to
@@ -78,6 +82,8 @@ enum class OccupancyMap {
 };
 const char* OccupancyMapName(OccupancyMap m);
 OccupancyMap ParseOccupancyMap(const std::string& name);  // "identity" | "clamp" | "sigmoid"
+inline constexpr EnumName<OccupancyMap> kOccupancyMapNames[] = {
+    {OccupancyMap::kIdentity, "identity"}, {OccupancyMap::kClamp, "clamp"}, {OccupancyMap::kSigmoid, "sigmoid"}};
 
 struct SoftOccupancyOptions {
   WindingForm form = WindingForm::kNaive;  // eq. 4, as the paper's morphing

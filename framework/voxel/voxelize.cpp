@@ -77,8 +77,9 @@ void VoxelizeOptions::Check() const {
   CheckChoice("output", output, {"occupancy", "winding"});
   CheckChoice("open_mesh", open_mesh, {"auto", "none", "flip_dup"});
   CheckChoice("orientation", orientation, {"abs", "as_is"});
-  ARCS_CHECK_OPTION(std::isfinite(epsilon) && epsilon >= 0.0, "epsilon", epsilon, "a finite number >= 0");
-  ARCS_CHECK_OPTION(std::isfinite(beta) && beta >= 1.0, "beta", beta, "a finite number >= 1");
+  // Sane caps: the voxelize stage and `arcs voxelize` declare the same bounds.
+  ARCS_CHECK_OPTION(epsilon >= 0.0 && epsilon <= 1e9, "epsilon", epsilon, "in [0, 1e9]");
+  ARCS_CHECK_OPTION(beta >= 1.0 && beta <= 1e9, "beta", beta, "in [1, 1e9]");
   ARCS_CHECK_OPTION(std::isfinite(exact_band) && exact_band >= 0.0 && exact_band <= 0.5, "exact_band", exact_band,
                     "a number in [0, 0.5]");
 }
