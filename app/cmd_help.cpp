@@ -20,7 +20,8 @@ struct CommandHelp {
   const char* details;  // options and notes
 };
 
-// Commands with a help text of their own (voxelize) are not listed here:
+// Commands with a help text of their own (voxelize, morph: generated from
+// their stages' schemas) are not listed here:
 // their own --help is printed.
 const std::map<std::string, CommandHelp>& HelpTable() {
   static const std::map<std::string, CommandHelp> t = {
@@ -68,14 +69,6 @@ const std::map<std::string, CommandHelp>& HelpTable() {
       {"shape", {"arcs shape NAME OUT | arcs shape list",
                  "Writes a built-in shape (sphere, torus, knot, two_tori) as a mesh file, or a built-in 2D\n"
                  "curve as a polyline (.obj/.txt/.svg).\n"}},
-      {"morph", {"arcs morph SOURCE TARGET OUT [options]",
-                 "Deforms SOURCE to match TARGET's occupancy (differentiable voxelization + Adam, Luo et al.).\n\n"
-                 "  SOURCE  'sphere', 'shape:NAME' or a mesh file; TARGET a mesh file, shape:NAME or a 3D .npy\n"
-                 "          occupancy grid; OUT the morphed mesh\n"
-                 "  --res N (64) --iterations N (200) --lr X (0.004) --smooth X (20) --seed N (1) --log CSV\n"
-                 "  --threads T --subdivisions S (3) --batch N (4096) --residual soft|exact (soft)\n"
-                 "  --form naive|solid_angle (naive) --bounds 'xmin ymin zmin xmax ymax zmax' --every K (10)\n"
-                 "  --softening E (1, in voxels; 0 = the paper's eq. 4 unsoftened)\n"}},
       {"version", {"arcs version | arcs --version", "Version, git revision, build type and plugin API version.\n"}},
   };
   return t;
@@ -152,7 +145,7 @@ GlobalOptions ExtractGlobalOptions(int* argc, char** argv) {
       g.version = true;
     } else if ((s == "--help" || s == "-h") && seen_command) {
       g.help = true;
-      argv[out++] = argv[i];  // kept: commands with their own help (voxelize) see it
+      argv[out++] = argv[i];  // kept: commands with their own help (voxelize, morph) see it
     } else {
       if (s.rfind("-", 0) != 0) seen_command = true;
       argv[out++] = argv[i];

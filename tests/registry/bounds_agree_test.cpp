@@ -11,6 +11,8 @@
 #include "registry/registry.h"
 #include "stages/builtin.h"
 
+#include "tests/builtin_registry.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,14 +22,7 @@
 namespace arcs {
 namespace {
 
-const Registry& Builtins() {
-  static const Registry r = [] {
-    Registry x;
-    RegisterBuiltinStages(x);
-    return x;
-  }();
-  return r;
-}
+using testing::Builtins;
 
 // Whether info.check accepts `params` with `name` set to v (int or double).
 bool Accepts(const StageInfo& info, ParamMap params, const ParamSpec& spec, double v, std::string* why) {

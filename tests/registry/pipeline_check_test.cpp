@@ -5,6 +5,8 @@
 #include "registry/registry.h"
 #include "stages/builtin.h"
 
+#include "tests/builtin_registry.h"
+
 #include <gtest/gtest.h>
 
 #include <string>
@@ -12,14 +14,7 @@
 namespace arcs {
 namespace {
 
-const Registry& Builtins() {
-  static const Registry r = [] {
-    Registry x;
-    RegisterBuiltinStages(x);
-    return x;
-  }();
-  return r;
-}
+using testing::Builtins;
 
 std::string PipelineError(const std::vector<std::string>& stages, Slots start, int dim) {
   try {

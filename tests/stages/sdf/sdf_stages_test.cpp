@@ -7,6 +7,8 @@
 #include "registry/registry.h"
 #include "stages/builtin.h"
 
+#include "tests/builtin_registry.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,14 +17,7 @@
 namespace arcs {
 namespace {
 
-const Registry& Builtins() {
-  static const Registry r = [] {
-    Registry x;
-    RegisterBuiltinStages(x);
-    return x;
-  }();
-  return r;
-}
+using testing::Builtins;
 
 // The message of Resolve(stage, {name: v}), or "" if it accepts.
 template <class V>
