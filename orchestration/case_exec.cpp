@@ -37,18 +37,10 @@ std::string Num(double v) {
   return buf;
 }
 
+// Stage::Run checks each stage's contract and prefixes its errors with the
+// stage's name once (no second prefix here: that gave "x: x: ...").
 void RunStages(const std::vector<StageSpec>& stages, const Registry& registry, Context& ctx, CaseData& data) {
-  for (const auto& s : stages) {
-    ctx.CheckStop();
-    auto stage = registry.Get(s.stage).factory(s.params);
-    try {
-      stage->Run(ctx, data);
-    } catch (const Cancelled&) {
-      throw;
-    } catch (const std::exception& e) {
-      throw Error(s.stage + ": " + e.what());
-    }
-  }
+  for (const auto& s : stages) registry.Create(s)->Run(ctx, data);
 }
 
 // Letters, digits and "._=-" stay; anything else becomes '_'.
