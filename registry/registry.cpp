@@ -100,9 +100,7 @@ ParamMap Registry::Resolve(const std::string& stage, const ParamMap& given) cons
       throw;
     } catch (const std::exception& e) {
       const std::string what = e.what();
-      const bool named = what.compare(0, stage.size() + 1, stage + ".") == 0 ||
-                         what.compare(0, stage.size() + 1, stage + ":") == 0;
-      throw OptionError(named ? what : stage + "." + what);
+      throw OptionError(NamesStage(what, stage) ? what : stage + "." + what);
     }
   }
   return out;
@@ -114,7 +112,7 @@ std::string Registry::WritersOf(Slots slots, int dim) const {
     if (!w->declared) continue;
     bool writes_one = false;
     for (Slot s : kAllSlots) writes_one |= slots.Has(s) && w->writes.Has(s);
-    if (writes_one && (dim == 0 || (w->dims & (dim == 2 ? k2D : k3D)))) out += (out.empty() ? "" : ", ") + w->name;
+    if (writes_one && WorksIn(w->dims, dim)) out += (out.empty() ? "" : ", ") + w->name;
   }
   return out;
 }
@@ -139,7 +137,7 @@ void Registry::CheckPipeline(const std::vector<std::string>& stages, Slots start
            " (the case has " + have.Text() + " there)" +
            (writers.empty() ? "" : "; put one of these before it: " + writers));
     }
-    if (dim != 0 && !(info.dims & (dim == 2 ? k2D : k3D)))
+    if (!WorksIn(info.dims, dim))
       fail("works on " + DimsText(info.dims) + " data, but this pipeline is " + std::to_string(dim) + "D");
     have = have | info.writes;
   }

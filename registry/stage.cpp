@@ -58,6 +58,11 @@ std::string Slots::Text() const {
   return out.empty() ? "nothing" : out;
 }
 
+bool NamesStage(const std::string& what, const std::string& stage) {
+  return what.size() > stage.size() && what.compare(0, stage.size(), stage) == 0 &&
+         (what[stage.size()] == ':' || what[stage.size()] == '.');
+}
+
 std::string DimsText(unsigned dims) {
   if ((dims & kAnyDim) == kAnyDim) return "2D and 3D";
   if (dims & k2D) return "2D";
@@ -109,10 +114,9 @@ const Mesh& CaseData::RequireOutput(const std::string& stage) const {
 }
 
 namespace {
-// "NAME: what", unless `what` already starts with "NAME:".
+// "NAME: what", unless `what` already names the stage.
 std::string Prefixed(const std::string& name, const std::string& what) {
-  if (what.compare(0, name.size() + 1, name + ":") == 0) return what;
-  return name + ": " + what;
+  return NamesStage(what, name) ? what : name + ": " + what;
 }
 }  // namespace
 
@@ -130,7 +134,7 @@ void Stage::Run(Context& ctx, CaseData& data) {
                 (writers.empty() ? "" : "; put one of these before it: " + writers));
   }
   const int dim = data.Dim();
-  if (dim != 0 && !(info_->dims & (dim == 2 ? k2D : k3D)))
+  if (!WorksIn(info_->dims, dim))
     throw Error(name + ": works on " + DimsText(info_->dims) + " data, but this case is " + std::to_string(dim) + "D");
   const auto t0 = std::chrono::steady_clock::now();
   try {

@@ -87,6 +87,10 @@ class Slots {
 enum Dims : unsigned { k2D = 1u, k3D = 2u, kAnyDim = 3u };
 // "2D", "3D", "2D and 3D".
 std::string DimsText(unsigned dims);
+// Whether a stage of `dims` works on data of dimension `dim` (0 = not known: yes).
+inline bool WorksIn(unsigned dims, int dim) { return dim == 0 || (dims & (dim == 2 ? k2D : k3D)); }
+// Whether an error message already names `stage` ("stage: ..." or "stage.param ...").
+bool NamesStage(const std::string& what, const std::string& stage);
 
 // Everything a case carries from stage to stage.
 struct CaseData {
