@@ -1,0 +1,902 @@
+// arcs' screened Poisson (spsr.h has the method). Layout of this file: a
+// small open-addressing key map, the octree levels, density and depth, the
+// constraints, the cascadic solve, exact evaluation, and tracked marching
+// cubes.
+#include "framework/reconstruct/spsr.h"
+
+#include "framework/error.h"
+#include "framework/geometry/marching_cubes.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <deque>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace arcs {
+
+namespace {
+
+using Key = std::uint64_t;
+constexpr int kBits = 21;
+constexpr Key kMask = (Key(1) << kBits) - 1;
+inline Key Pack(int x, int y, int z) {
+  return Key(x) | (Key(y) << kBits) | (Key(z) << (2 * kBits));
+}
+inline int KX(Key k) { return static_cast<int>(k & kMask); }
+inline int KY(Key k) { return static_cast<int>((k >> kBits) & kMask); }
+inline int KZ(Key k) { return static_cast<int>((k >> (2 * kBits)) & kMask); }
+
+// Open addressing (linear probing) from 64-bit keys to int.
+class KeyMap {
+ public:
+  KeyMap() { Init(16); }
+  void Reserve(std::size_t n) {
+    if (n * 2 > keys_.size()) Rehash(n * 2);
+  }
+  int Find(Key k) const {
+    std::size_t i = Mix(k) & mask_;
+    while (true) {
+      const Key q = keys_[i];
+      if (q == k) return vals_[i];
+      if (q == kEmpty) return -1;
+      i = (i + 1) & mask_;
+    }
+  }
+  // Inserts (k, v) unless k is present; returns the stored value.
+  int Insert(Key k, int v) {
+    if ((size_ + 1) * 2 > keys_.size()) Rehash(keys_.size() * 2);
+    std::size_t i = Mix(k) & mask_;
+    while (true) {
+      const Key q = keys_[i];
+      if (q == k) return vals_[i];
+      if (q == kEmpty) {
+        keys_[i] = k;
+        vals_[i] = v;
+        ++size_;
+        return v;
+      }
+      i = (i + 1) & mask_;
+    }
+  }
+  std::size_t size() const { return size_; }
+  std::vector<Key> SortedKeys() const {
+    std::vector<Key> out;
+    out.reserve(size_);
+    for (Key k : keys_)
+      if (k != kEmpty) out.push_back(k);
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+  // Key -> position in `sorted`.
+  static KeyMap IndexOf(const std::vector<Key>& sorted) {
+    KeyMap m;
+    m.Rehash(sorted.size() * 2 + 16);
+    for (std::size_t i = 0; i < sorted.size(); ++i) m.Insert(sorted[i], static_cast<int>(i));
+    return m;
+  }
+
+ private:
+  static constexpr Key kEmpty = ~Key(0);
+  static std::size_t Mix(Key k) {
+    k ^= k >> 31;
+    k *= 0x7fb5d329728ea185ULL;
+    k ^= k >> 27;
+    k *= 0x81dadef4bc2dd44dULL;
+    k ^= k >> 33;
+    return static_cast<std::size_t>(k);
+  }
+  void Init(std::size_t cap) {
+    std::size_t c = 16;
+    while (c < cap) c <<= 1;
+    keys_.assign(c, kEmpty);
+    vals_.assign(c, 0);
+    mask_ = c - 1;
+    size_ = 0;
+  }
+  void Rehash(std::size_t cap) {
+    std::vector<Key> ok = std::move(keys_);
+    std::vector<int> ov = std::move(vals_);
+    Init(cap);
+    for (std::size_t i = 0; i < ok.size(); ++i)
+      if (ok[i] != kEmpty) Insert(ok[i], ov[i]);
+  }
+  std::vector<Key> keys_;
+  std::vector<int> vals_;
+  std::size_t mask_ = 0, size_ = 0;
+};
+
+// 1D integrals of degree-1 tents on the level's grid (nodes 0..res, h = 1/res),
+// cut at the cube's faces (Neumann): mass M, stiffness S (∫B_a' B_b'),
+// derivative-value D (∫B_a' B_b), for b = a + o, o in {-1, 0, 1}.
+struct Tent1D {
+  double h;
+  int res;
+  double M(int a, int o) const {
+    if (o != 0) return h / 6.0;
+    return (a == 0 || a == res) ? h / 3.0 : 2.0 * h / 3.0;
+  }
+  double S(int a, int o) const {
+    if (o != 0) return -1.0 / h;
+    return (a == 0 || a == res) ? 1.0 / h : 2.0 / h;
+  }
+  double D(int a, int o) const {
+    if (o == 1) return -0.5;
+    if (o == -1) return 0.5;
+    if (a == 0) return -0.5;
+    if (a == res) return 0.5;
+    return 0.0;
+  }
+};
+
+// Offset o (0..26) -> (dx, dy, dz) in {-1,0,1}, x fastest.
+inline int Ox(int o) { return o % 3 - 1; }
+inline int Oy(int o) { return (o / 3) % 3 - 1; }
+inline int Oz(int o) { return o / 9 - 1; }
+
+struct Level {
+  int d = 0, res = 0;
+  double h = 0;
+  Tent1D tent{};
+  std::vector<Key> nodes;  // sorted unknowns (corners of existing cells)
+  KeyMap node_map;
+  KeyMap cell_set;         // existing cells
+  std::vector<int> nbr;    // 27 per node: index of the neighbour unknown or -1
+  std::vector<unsigned char> on_face;  // node touches the cube's boundary
+  // Samples whose cell exists at this level: index, corner unknowns, weights.
+  std::vector<int> s_idx;
+  std::vector<std::array<int, 8>> s_corner;
+  std::vector<std::array<double, 8>> s_w;
+  std::vector<double> x, U;  // own coefficients; accumulated solution χ_{<=d} at the nodes
+};
+
+// The cell (at `res` cells per side) containing unit-cube point p and the
+// trilinear weights of its 8 corners (corner c: offset (c&1, c>>1&1, c>>2&1)).
+inline void CellOf(const Vec3& p, int res, int c[3], double w[8]) {
+  double t[3];
+  for (int a = 0; a < 3; ++a) {
+    const double u = p[a] * res;
+    int i = static_cast<int>(std::floor(u));
+    i = std::clamp(i, 0, res - 1);
+    c[a] = i;
+    t[a] = std::clamp(u - i, 0.0, 1.0);
+  }
+  for (int k = 0; k < 8; ++k) {
+    w[k] = ((k & 1) ? t[0] : 1 - t[0]) * ((k & 2) ? t[1] : 1 - t[1]) * ((k & 4) ? t[2] : 1 - t[2]);
+  }
+}
+
+// 1D prolongation of coarse level values to fine node coordinate a: coarse
+// nodes and weights (1 node if a is even, 2 halves if odd).
+inline int Parents1D(int a, int pc[2], double pw[2]) {
+  if ((a & 1) == 0) {
+    pc[0] = a >> 1;
+    pw[0] = 1.0;
+    return 1;
+  }
+  pc[0] = a >> 1;
+  pc[1] = (a >> 1) + 1;
+  pw[0] = pw[1] = 0.5;
+  return 2;
+}
+
+class Solver {
+ public:
+  Solver(const SpsrOptions& o, const Context& ctx) : o_(o), ctx_(ctx) {}
+
+  Mesh Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, SpsrInfo* info);
+
+ private:
+  void Normalise(const PointCloud& pc);
+  void DensityAndDepth();
+  void BuildTree();
+  void BuildLevel(Level& L, const std::vector<Key>& cells, bool complete);
+  void Splat(std::vector<std::vector<Vec3>>& V);
+  void Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<std::vector<double>>& b);
+  Vec3 ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z) const;
+  int SolveLevel(Level& L, const std::vector<double>& b, double beta, int max_iters, double tol);
+  double Value(int level, Key k);
+  // χ_{<d} at level-d grid node (x, y, z): the coarser levels' solution.
+  double Coarse(int d, int x, int y, int z);
+  double Chi(const Vec3& p);
+  Mesh Extract(double iso);
+
+  const SpsrOptions& o_;
+  const Context& ctx_;
+  int F_ = 5, D_ = 10, Lmax_ = 5;
+  Vec3 center_;
+  double side_ = 1;
+  std::vector<Vec3> p_, n_;  // unit-cube points, unit normals
+  std::vector<double> area_, depth_;
+  double mean_area_ = 0;
+  std::vector<Level> lv_;  // index d - F
+  std::vector<KeyMap> memo_map_;
+  std::vector<std::vector<double>> memo_val_;
+  long long prolong_misses_ = 0;
+  Level& At(int d) { return lv_[d - F_]; }
+};
+
+void Solver::Normalise(const PointCloud& pc) {
+  const int n = pc.Size();
+  if (n < 10) throw Error("screened Poisson (arcs): needs at least 10 oriented points, got " + std::to_string(n));
+  if (pc.N.rows() != n)
+    throw Error("screened Poisson (arcs): needs one normal per point: got " + std::to_string(pc.N.rows()) +
+                " normals for " + std::to_string(n) + " points");
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (int i = 0; i < n; ++i) {
+    const Vec3 p = pc.P.row(i), q = pc.N.row(i);
+    if (!p.allFinite()) throw Error("screened Poisson (arcs): point " + std::to_string(i) + " is not finite");
+    if (!q.allFinite() || q.norm() == 0.0)
+      throw Error("screened Poisson (arcs): normal " + std::to_string(i) + " is zero or not finite");
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double extent = (hi - lo).maxCoeff();
+  if (!(extent > 0)) throw Error("screened Poisson (arcs): all points coincide");
+  center_ = 0.5 * (lo + hi);
+  side_ = o_.scale * extent;
+  p_.resize(n);
+  n_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    p_[i] = (Vec3(pc.P.row(i)) - center_) / side_ + Vec3::Constant(0.5);
+    n_[i] = Vec3(pc.N.row(i)).normalized();
+  }
+}
+
+void Solver::DensityAndDepth() {
+  // Tent splats of the samples at the kernel depth k and every coarser level
+  // down to full_depth. A sample's density is read at the finest of these
+  // levels where it reaches samples_per_node (sparse samples: coarser, as
+  // PoissonRecon walks up its tree), so that the estimate is not the
+  // sample's own splat alone.
+  const int n = static_cast<int>(p_.size());
+  const int k = std::max(std::min(F_, D_), D_ - o_.kernel_depth_offset);
+  area_.assign(n, 0.0);
+  depth_.assign(n, static_cast<double>(F_));
+  std::vector<char> done(n, 0);
+  double sum = 0;
+  for (int e = k; e >= std::min(F_, k); --e) {
+    const int res = 1 << e;
+    const double he = 1.0 / res;
+    KeyMap idx;
+    idx.Reserve(static_cast<std::size_t>(n) * 4);
+    std::vector<double> W;
+    std::vector<std::array<int, 8>> corner(n);
+    std::vector<std::array<double, 8>> wt(n);
+    for (int s = 0; s < n; ++s) {
+      int c[3];
+      double w[8];
+      CellOf(p_[s], res, c, w);
+      for (int q = 0; q < 8; ++q) {
+        const Key key = Pack(c[0] + (q & 1), c[1] + ((q >> 1) & 1), c[2] + ((q >> 2) & 1));
+        const int id = idx.Insert(key, static_cast<int>(W.size()));
+        if (id == static_cast<int>(W.size())) W.push_back(0.0);
+        W[id] += w[q];
+        corner[s][q] = id;
+        wt[s][q] = w[q];
+      }
+    }
+    const bool last = e == std::min(F_, k);
+    for (int s = 0; s < n; ++s) {
+      if (done[s]) continue;
+      double dens = 0;
+      for (int q = 0; q < 8; ++q) dens += wt[s][q] * W[corner[s][q]];
+      dens = std::max(dens, 1e-12);
+      if (dens < o_.samples_per_node && !last) continue;
+      done[s] = 1;
+      area_[s] = he * he / dens;
+      sum += area_[s];
+      const double ds = e + std::log(dens / o_.samples_per_node) / std::log(4.0);
+      depth_[s] = std::clamp(ds, static_cast<double>(F_), static_cast<double>(D_));
+    }
+  }
+  mean_area_ = sum / n;
+}
+
+void Solver::BuildLevel(Level& L, const std::vector<Key>& cells, bool complete) {
+  L.res = 1 << L.d;
+  L.h = 1.0 / L.res;
+  L.tent = Tent1D{L.h, L.res};
+  if (complete) {
+    L.nodes.clear();
+    for (int z = 0; z <= L.res; ++z)
+      for (int y = 0; y <= L.res; ++y)
+        for (int x = 0; x <= L.res; ++x) L.nodes.push_back(Pack(x, y, z));
+    std::sort(L.nodes.begin(), L.nodes.end());
+  } else {
+    KeyMap set;
+    set.Reserve(cells.size() * 2);
+    for (Key c : cells) {
+      const int x = KX(c), y = KY(c), z = KZ(c);
+      for (int q = 0; q < 8; ++q) set.Insert(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1)), 0);
+    }
+    L.nodes = set.SortedKeys();
+  }
+  L.node_map = KeyMap::IndexOf(L.nodes);
+  const std::size_t nn = L.nodes.size();
+  L.nbr.assign(nn * 27, -1);
+  L.on_face.assign(nn, 0);
+  for (std::size_t i = 0; i < nn; ++i) {
+    const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+    L.on_face[i] = (x == 0 || y == 0 || z == 0 || x == L.res || y == L.res || z == L.res);
+    for (int o = 0; o < 27; ++o) {
+      const int a = x + Ox(o), b = y + Oy(o), c = z + Oz(o);
+      if (a < 0 || b < 0 || c < 0 || a > L.res || b > L.res || c > L.res) continue;
+      L.nbr[i * 27 + o] = L.node_map.Find(Pack(a, b, c));
+    }
+  }
+  L.x.assign(nn, 0.0);
+  L.U.assign(nn, 0.0);
+}
+
+void Solver::BuildTree() {
+  const int n = static_cast<int>(p_.size());
+  Lmax_ = F_;
+  for (int s = 0; s < n; ++s) Lmax_ = std::max(Lmax_, static_cast<int>(std::ceil(depth_[s] - 1e-9)));
+  lv_.assign(Lmax_ - F_ + 1, Level{});
+  for (int d = F_; d <= Lmax_; ++d) At(d).d = d;
+  // Cells around every sample up to its depth.
+  for (int d = F_ + 1; d <= Lmax_; ++d) {
+    KeyMap& set = At(d).cell_set;
+    set.Reserve(static_cast<std::size_t>(n) * 8);
+    const int res = 1 << d;
+    for (int s = 0; s < n; ++s) {
+      if (std::ceil(depth_[s] - 1e-9) < d) continue;
+      int c[3];
+      double w[8];
+      CellOf(p_[s], res, c, w);
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int a = c[0] + dx, b = c[1] + dy, e = c[2] + dz;
+            if (a < 0 || b < 0 || e < 0 || a >= res || b >= res || e >= res) continue;
+            set.Insert(Pack(a, b, e), 0);
+          }
+    }
+  }
+  // Grading: a cell's parent's neighbours exist.
+  for (int d = Lmax_; d >= F_ + 2; --d) {
+    const std::vector<Key> cells = At(d).cell_set.SortedKeys();
+    KeyMap& up = At(d - 1).cell_set;
+    const int res = 1 << (d - 1);
+    Key last = ~Key(0);
+    for (Key c : cells) {
+      const Key parent = Pack(KX(c) >> 1, KY(c) >> 1, KZ(c) >> 1);
+      if (parent == last) continue;
+      last = parent;
+      const int px = KX(parent), py = KY(parent), pz = KZ(parent);
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int a = px + dx, b = py + dy, e = pz + dz;
+            if (a < 0 || b < 0 || e < 0 || a >= res || b >= res || e >= res) continue;
+            up.Insert(Pack(a, b, e), 0);
+          }
+    }
+  }
+  for (int d = F_; d <= Lmax_; ++d) {
+    Level& L = At(d);
+    if (d == F_) {
+      BuildLevel(L, {}, true);
+      const int res = 1 << d;
+      L.cell_set.Reserve(static_cast<std::size_t>(res) * res * res);
+      for (int z = 0; z < res; ++z)
+        for (int y = 0; y < res; ++y)
+          for (int x = 0; x < res; ++x) L.cell_set.Insert(Pack(x, y, z), 0);
+    } else {
+      BuildLevel(L, L.cell_set.SortedKeys(), false);
+    }
+    // Samples whose cell exists here.
+    for (int s = 0; s < n; ++s) {
+      int c[3];
+      double w[8];
+      CellOf(p_[s], L.res, c, w);
+      if (L.cell_set.Find(Pack(c[0], c[1], c[2])) < 0) continue;
+      std::array<int, 8> cor;
+      std::array<double, 8> ww;
+      for (int q = 0; q < 8; ++q) {
+        cor[q] = L.node_map.Find(Pack(c[0] + (q & 1), c[1] + ((q >> 1) & 1), c[2] + ((q >> 2) & 1)));
+        ww[q] = w[q];
+      }
+      L.s_idx.push_back(s);
+      L.s_corner.push_back(cor);
+      L.s_w.push_back(ww);
+    }
+  }
+}
+
+Vec3 Solver::ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z) const {
+  int cx[2], cy[2], cz[2];
+  double wx[2], wy[2], wz[2];
+  const int nx = Parents1D(x, cx, wx), ny = Parents1D(y, cy, wy), nz = Parents1D(z, cz, wz);
+  Vec3 v = Vec3::Zero();
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int id = coarse.node_map.Find(Pack(cx[i], cy[j], cz[k]));
+        if (id >= 0) v += wx[i] * wy[j] * wz[k] * vc[id];
+      }
+  return v;
+}
+
+void Solver::Splat(std::vector<std::vector<Vec3>>& V) {
+  V.assign(lv_.size(), {});
+  for (int d = F_; d <= Lmax_; ++d) V[d - F_].assign(At(d).nodes.size(), Vec3::Zero());
+  for (int d = F_; d <= Lmax_; ++d) {
+    Level& L = At(d);
+    const double inv_vol = 1.0 / (L.h * L.h * L.h);
+    for (std::size_t t = 0; t < L.s_idx.size(); ++t) {
+      const int s = L.s_idx[t];
+      const double ds = depth_[s];
+      const double lo = std::floor(ds);
+      double w;
+      if (d == static_cast<int>(lo)) {
+        w = 1.0 - (ds - lo);
+      } else if (d == static_cast<int>(lo) + 1) {
+        w = ds - lo;
+      } else {
+        continue;
+      }
+      if (w <= 0) continue;
+      const Vec3 g = -w * area_[s] * inv_vol * n_[s];
+      for (int q = 0; q < 8; ++q) V[d - F_][L.s_corner[t][q]] += L.s_w[t][q] * g;
+    }
+  }
+}
+
+void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<std::vector<double>>& b) {
+  const int nl = static_cast<int>(lv_.size());
+  // G^d applied to a vector field given on the level's nodes (neighbours
+  // that are not unknowns take `outside(x,y,z)`).
+  auto apply_g = [&](const Level& L, const std::vector<Vec3>& field, const Level* coarse,
+                     const std::vector<Vec3>* coarse_field, std::vector<double>& out) {
+    out.assign(L.nodes.size(), 0.0);
+    for (std::size_t i = 0; i < L.nodes.size(); ++i) {
+      const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+      double acc = 0;
+      for (int o = 0; o < 27; ++o) {
+        const int a = x + Ox(o), bb = y + Oy(o), c = z + Oz(o);
+        if (a < 0 || bb < 0 || c < 0 || a > L.res || bb > L.res || c > L.res) continue;
+        const int j = L.nbr[i * 27 + o];
+        Vec3 v;
+        if (j >= 0) {
+          v = field[j];
+        } else if (coarse) {
+          v = ProlongVec(*coarse, *coarse_field, a, bb, c);
+        } else {
+          continue;
+        }
+        if (v.isZero(0)) continue;
+        const double mx = L.tent.M(x, Ox(o)), my = L.tent.M(y, Oy(o)), mz = L.tent.M(z, Oz(o));
+        acc += v[0] * L.tent.D(x, Ox(o)) * my * mz + v[1] * mx * L.tent.D(y, Oy(o)) * mz +
+               v[2] * mx * my * L.tent.D(z, Oz(o));
+      }
+      out[i] = acc;
+    }
+  };
+  // Upward: Vacc^d, the exact level-d representation of V^F + ... + V^d.
+  std::vector<std::vector<Vec3>> vacc(nl);
+  b.assign(nl, {});
+  for (int d = F_; d <= Lmax_; ++d) {
+    const Level& L = At(d);
+    std::vector<Vec3>& va = vacc[d - F_];
+    va = V[d - F_];
+    if (d > F_) {
+      const Level& C = At(d - 1);
+      for (std::size_t i = 0; i < L.nodes.size(); ++i)
+        va[i] += ProlongVec(C, vacc[d - 1 - F_], KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
+    }
+    apply_g(L, va, d > F_ ? &At(d - 1) : nullptr, d > F_ ? &vacc[d - 1 - F_] : nullptr, b[d - F_]);
+  }
+  // Downward: contributions of the finer levels' own fields, restricted.
+  std::vector<double> fine_next;  // (G^{d+1} V^{d+1} + Fine^{d+1}) on level d+1's nodes
+  for (int d = Lmax_; d >= F_; --d) {
+    Level& L = At(d);
+    std::vector<double> own;
+    apply_g(L, V[d - F_], nullptr, nullptr, own);
+    std::vector<double> fine(L.nodes.size(), 0.0);
+    if (d < Lmax_) {
+      const Level& Fl = At(d + 1);
+      static const double w1[3] = {0.5, 1.0, 0.5};
+      for (std::size_t i = 0; i < L.nodes.size(); ++i) {
+        const int x = 2 * KX(L.nodes[i]), y = 2 * KY(L.nodes[i]), z = 2 * KZ(L.nodes[i]);
+        double acc = 0;
+        for (int o = 0; o < 27; ++o) {
+          const int a = x + Ox(o), bb = y + Oy(o), c = z + Oz(o);
+          if (a < 0 || bb < 0 || c < 0 || a > Fl.res || bb > Fl.res || c > Fl.res) continue;
+          const int j = Fl.node_map.Find(Pack(a, bb, c));
+          if (j < 0) continue;
+          acc += w1[Ox(o) + 1] * w1[Oy(o) + 1] * w1[Oz(o) + 1] * fine_next[j];
+        }
+        fine[i] = acc;
+      }
+    }
+    for (std::size_t i = 0; i < L.nodes.size(); ++i) b[d - F_][i] += fine[i];
+    fine_next.assign(L.nodes.size(), 0.0);
+    for (std::size_t i = 0; i < L.nodes.size(); ++i) fine_next[i] = own[i] + fine[i];
+  }
+}
+
+// CG on (K + beta S) x = rhs for the level's own coefficients (L.x holds the
+// start and receives the result). Returns the iterations used.
+int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, int max_iters, double tol) {
+  const std::size_t nn = L.nodes.size();
+  // Interior stencil (no node on the cube's faces).
+  std::array<double, 27> kin{};
+  for (int o = 0; o < 27; ++o) {
+    const int mid = L.res / 2;
+    const Tent1D& t = L.tent;
+    kin[o] = t.S(mid, Ox(o)) * t.M(mid, Oy(o)) * t.M(mid, Oz(o)) +
+             t.M(mid, Ox(o)) * t.S(mid, Oy(o)) * t.M(mid, Oz(o)) +
+             t.M(mid, Ox(o)) * t.M(mid, Oy(o)) * t.S(mid, Oz(o));
+  }
+  auto stencil = [&](std::size_t i, int o) {
+    if (!L.on_face[i]) return kin[o];
+    const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+    const Tent1D& t = L.tent;
+    return t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) + t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
+           t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o));
+  };
+  std::vector<double> diag(nn);
+  for (std::size_t i = 0; i < nn; ++i) diag[i] = stencil(i, 13);
+  for (std::size_t t = 0; t < L.s_idx.size(); ++t)
+    for (int q = 0; q < 8; ++q) diag[L.s_corner[t][q]] += beta * L.s_w[t][q] * L.s_w[t][q];
+  std::vector<double> sval(L.s_idx.size());
+  auto apply = [&](const std::vector<double>& v, std::vector<double>& out) {
+    for (std::size_t i = 0; i < nn; ++i) {
+      double acc = 0;
+      const int* nb = &L.nbr[i * 27];
+      for (int o = 0; o < 27; ++o)
+        if (nb[o] >= 0) acc += stencil(i, o) * v[nb[o]];
+      out[i] = acc;
+    }
+    if (beta > 0) {
+      for (std::size_t t = 0; t < L.s_idx.size(); ++t) {
+        double s = 0;
+        for (int q = 0; q < 8; ++q) s += L.s_w[t][q] * v[L.s_corner[t][q]];
+        sval[t] = beta * s;
+      }
+      for (std::size_t t = 0; t < L.s_idx.size(); ++t)
+        for (int q = 0; q < 8; ++q) out[L.s_corner[t][q]] += L.s_w[t][q] * sval[t];
+    }
+  };
+  auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double s = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+    return s;
+  };
+  std::vector<double> r(nn), z(nn), p(nn), q(nn);
+  apply(L.x, q);
+  for (std::size_t i = 0; i < nn; ++i) r[i] = rhs[i] - q[i];
+  const double bnorm = std::sqrt(dot(rhs, rhs));
+  if (bnorm == 0) return 0;
+  for (std::size_t i = 0; i < nn; ++i) z[i] = r[i] / diag[i];
+  p = z;
+  double rz = dot(r, z);
+  int it = 0;
+  for (; it < max_iters; ++it) {
+    if (std::sqrt(dot(r, r)) <= tol * bnorm) break;
+    apply(p, q);
+    const double pq = dot(p, q);
+    if (!(pq > 0)) break;
+    const double alpha = rz / pq;
+    for (std::size_t i = 0; i < nn; ++i) {
+      L.x[i] += alpha * p[i];
+      r[i] -= alpha * q[i];
+    }
+    for (std::size_t i = 0; i < nn; ++i) z[i] = r[i] / diag[i];
+    const double rz2 = dot(r, z);
+    const double beta_cg = rz2 / rz;
+    rz = rz2;
+    for (std::size_t i = 0; i < nn; ++i) p[i] = z[i] + beta_cg * p[i];
+  }
+  return it;
+}
+
+// χ at node k of `level` (any grid node: unknowns read U, others are
+// prolonged from the coarser level, memoised).
+double Solver::Value(int level, Key k) {
+  Level& L = At(level);
+  const int id = L.node_map.Find(k);
+  if (id >= 0) return L.U[id];
+  if (level == F_) return 0.0;  // cannot happen: level F is complete
+  KeyMap& mm = memo_map_[level - F_];
+  std::vector<double>& mv = memo_val_[level - F_];
+  const int m = mm.Find(k);
+  if (m >= 0) return mv[m];
+  int cx[2], cy[2], cz[2];
+  double wx[2], wy[2], wz[2];
+  const int nx = Parents1D(KX(k), cx, wx), ny = Parents1D(KY(k), cy, wy), nz = Parents1D(KZ(k), cz, wz);
+  double v = 0;
+  for (int c = 0; c < nz; ++c)
+    for (int b = 0; b < ny; ++b)
+      for (int a = 0; a < nx; ++a) v += wx[a] * wy[b] * wz[c] * Value(level - 1, Pack(cx[a], cy[b], cz[c]));
+  mm.Insert(k, static_cast<int>(mv.size()));
+  mv.push_back(v);
+  return v;
+}
+
+double Solver::Coarse(int d, int x, int y, int z) {
+  int cx[2], cy[2], cz[2];
+  double wx[2], wy[2], wz[2];
+  const int nx = Parents1D(x, cx, wx), ny = Parents1D(y, cy, wy), nz = Parents1D(z, cz, wz);
+  double v = 0;
+  for (int c = 0; c < nz; ++c)
+    for (int b = 0; b < ny; ++b)
+      for (int a = 0; a < nx; ++a) v += wx[a] * wy[b] * wz[c] * Value(d - 1, Pack(cx[a], cy[b], cz[c]));
+  return v;
+}
+
+double Solver::Chi(const Vec3& p) {
+  const int res = 1 << Lmax_;
+  int c[3];
+  double w[8];
+  CellOf(p, res, c, w);
+  double v = 0;
+  for (int q = 0; q < 8; ++q)
+    v += w[q] * Value(Lmax_, Pack(c[0] + (q & 1), c[1] + ((q >> 1) & 1), c[2] + ((q >> 2) & 1)));
+  return v;
+}
+
+Mesh Solver::Extract(double iso) {
+  const int L = Lmax_;
+  const int res = 1 << L;
+  auto g = [&](int x, int y, int z) { return iso - Value(L, Pack(x, y, z)); };  // < 0 inside
+  // Node values of the finest grid, cached.
+  KeyMap gmap;
+  std::vector<double> gval;
+  auto G = [&](int x, int y, int z) {
+    const Key k = Pack(x, y, z);
+    const int id = gmap.Find(k);
+    if (id >= 0) return gval[id];
+    const double v = g(x, y, z);
+    gmap.Insert(k, static_cast<int>(gval.size()));
+    gval.push_back(v);
+    return v;
+  };
+  std::vector<Key> seeds;
+  for (const Vec3& p : p_) {
+    int c[3];
+    double w[8];
+    CellOf(p, res, c, w);
+    seeds.push_back(Pack(c[0], c[1], c[2]));
+  }
+  // Sign changes on the complete level's edges, located on the finest grid.
+  {
+    const int rF = 1 << F_, step = 1 << (L - F_);
+    for (int z = 0; z <= rF; ++z)
+      for (int y = 0; y <= rF; ++y)
+        for (int x = 0; x <= rF; ++x)
+          for (int a = 0; a < 3; ++a) {
+            int e[3] = {x, y, z};
+            if (e[a] == rF) continue;
+            int lo[3] = {x * step, y * step, z * step};
+            int hi[3] = {lo[0], lo[1], lo[2]};
+            hi[a] += step;
+            const bool in0 = G(lo[0], lo[1], lo[2]) < 0, in1 = G(hi[0], hi[1], hi[2]) < 0;
+            if (in0 == in1) continue;
+            int l = lo[a], h = hi[a];
+            while (h - l > 1) {
+              const int m = (l + h) / 2;
+              int q[3] = {lo[0], lo[1], lo[2]};
+              q[a] = m;
+              if ((G(q[0], q[1], q[2]) < 0) == in0) l = m; else h = m;
+            }
+            int c[3] = {lo[0], lo[1], lo[2]};
+            c[a] = l;
+            for (int u = -1; u <= 0; ++u)
+              for (int v = -1; v <= 0; ++v) {
+                int cc[3] = {c[0], c[1], c[2]};
+                cc[(a + 1) % 3] += u;
+                cc[(a + 2) % 3] += v;
+                if (cc[0] < 0 || cc[1] < 0 || cc[2] < 0 || cc[0] >= res || cc[1] >= res || cc[2] >= res) continue;
+                seeds.push_back(Pack(cc[0], cc[1], cc[2]));
+              }
+          }
+  }
+  std::sort(seeds.begin(), seeds.end());
+  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  KeyMap visited;
+  std::deque<Key> queue;
+  for (Key s : seeds) {
+    visited.Insert(s, 0);
+    queue.push_back(s);
+  }
+  KeyMap emap[3];
+  std::vector<Vec3> verts;
+  std::vector<std::array<int, 3>> tris;
+  auto vertex = [&](int x, int y, int z, int axis) {
+    const Key k = Pack(x, y, z);
+    const int id = emap[axis].Find(k);
+    if (id >= 0) return id;
+    int t[3] = {x, y, z};
+    const double g0 = G(x, y, z);
+    t[axis] += 1;
+    const double g1 = G(t[0], t[1], t[2]);
+    const double f = g0 / (g0 - g1);
+    Vec3 pos((x + 0.0) / res, (y + 0.0) / res, (z + 0.0) / res);
+    pos[axis] += f / res;
+    emap[axis].Insert(k, static_cast<int>(verts.size()));
+    verts.push_back(pos);
+    return static_cast<int>(verts.size()) - 1;
+  };
+  while (!queue.empty()) {
+    const Key cell = queue.front();
+    queue.pop_front();
+    const int x = KX(cell), y = KY(cell), z = KZ(cell);
+    double cg[8];
+    int config = 0;
+    for (int q = 0; q < 8; ++q) {
+      cg[q] = G(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1));
+      if (cg[q] < 0) config |= 1 << q;
+    }
+    if (config == 0 || config == 255) continue;
+    for (const auto& tri : detail::MarchingCubesCase(config)) {
+      std::array<int, 3> f;
+      for (int k = 0; k < 3; ++k) {
+        const int e = tri[k];
+        const int c0 = detail::MarchingCubesEdgeCorner(e);
+        f[k] = vertex(x + (c0 & 1), y + ((c0 >> 1) & 1), z + ((c0 >> 2) & 1), e / 4);
+      }
+      tris.push_back(f);
+    }
+    // Faces with both signs lead to the neighbour across them.
+    for (int a = 0; a < 3; ++a)
+      for (int side = 0; side < 2; ++side) {
+        bool any_in = false, any_out = false;
+        for (int q = 0; q < 8; ++q) {
+          if (((q >> a) & 1) != side) continue;
+          (cg[q] < 0 ? any_in : any_out) = true;
+        }
+        if (!(any_in && any_out)) continue;
+        int nc[3] = {x, y, z};
+        nc[a] += side ? 1 : -1;
+        if (nc[a] < 0 || nc[a] >= res) continue;
+        const Key nk = Pack(nc[0], nc[1], nc[2]);
+        if (visited.Find(nk) >= 0) continue;
+        visited.Insert(nk, 0);
+        queue.push_back(nk);
+      }
+  }
+  Mesh m;
+  m.V.resize(static_cast<Eigen::Index>(verts.size()), 3);
+  for (std::size_t i = 0; i < verts.size(); ++i)
+    m.V.row(static_cast<Eigen::Index>(i)) = ((verts[i] - Vec3::Constant(0.5)) * side_ + center_).transpose();
+  m.F.resize(static_cast<Eigen::Index>(tris.size()), 3);
+  for (std::size_t i = 0; i < tris.size(); ++i)
+    m.F.row(static_cast<Eigen::Index>(i)) << tris[i][0], tris[i][1], tris[i][2];
+  return m;
+}
+
+}  // namespace
+
+struct SpsrWarmStart {
+  int full_depth = 0;
+  std::vector<std::vector<Key>> nodes;   // per level from full_depth
+  std::vector<std::vector<double>> x;
+};
+
+Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, SpsrInfo* info) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  D_ = o_.depth;
+  F_ = std::min(o_.full_depth, D_);
+  Normalise(pc);
+  DensityAndDepth();
+  BuildTree();
+  std::vector<std::vector<Vec3>> V;
+  Splat(V);
+  std::vector<std::vector<double>> b;
+  Constraints(V, b);
+  V.clear();
+  memo_map_.assign(lv_.size(), KeyMap());
+  memo_val_.assign(lv_.size(), {});
+  const SpsrWarmStart* w = (warm && *warm && (*warm)->full_depth == F_) ? warm->get() : nullptr;
+  int total_iters = 0;
+  long long unknowns = 0;
+  for (int d = F_; d <= Lmax_; ++d) {
+    Level& L = At(d);
+    unknowns += static_cast<long long>(L.nodes.size());
+    const double beta = o_.point_weight * mean_area_ * static_cast<double>(1 << d);
+    std::vector<double> P(L.nodes.size(), 0.0);
+    std::vector<double> rhs = b[d - F_];
+    if (d > F_) {
+      for (std::size_t i = 0; i < L.nodes.size(); ++i) P[i] = Coarse(d, KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
+      // rhs -= K P (neighbours that are not unknowns are prolonged on the fly).
+      const Tent1D& t = L.tent;
+      for (std::size_t i = 0; i < L.nodes.size(); ++i) {
+        const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+        double acc = 0;
+        for (int o = 0; o < 27; ++o) {
+          const int a = x + Ox(o), bb = y + Oy(o), c = z + Oz(o);
+          if (a < 0 || bb < 0 || c < 0 || a > L.res || bb > L.res || c > L.res) continue;
+          const int j = L.nbr[i * 27 + o];
+          const double pv = j >= 0 ? P[j] : Coarse(d, a, bb, c);
+          if (pv == 0) continue;
+          acc += pv * (t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) +
+                       t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
+                       t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o)));
+        }
+        rhs[i] -= acc;
+      }
+      if (beta > 0) {
+        for (std::size_t s = 0; s < L.s_idx.size(); ++s) {
+          double chi = 0;
+          for (int q = 0; q < 8; ++q) chi += L.s_w[s][q] * P[L.s_corner[s][q]];
+          for (int q = 0; q < 8; ++q) rhs[L.s_corner[s][q]] -= beta * L.s_w[s][q] * chi;
+        }
+      }
+    }
+    std::fill(L.x.begin(), L.x.end(), 0.0);
+    if (w && d - F_ < static_cast<int>(w->nodes.size())) {
+      const std::vector<Key>& wk = w->nodes[d - F_];
+      const std::vector<double>& wx = w->x[d - F_];
+      // Both sorted: merge.
+      std::size_t j = 0;
+      for (std::size_t i = 0; i < L.nodes.size(); ++i) {
+        while (j < wk.size() && wk[j] < L.nodes[i]) ++j;
+        if (j < wk.size() && wk[j] == L.nodes[i]) L.x[i] = wx[j];
+      }
+    }
+    const bool coarse = d == F_;
+    total_iters += SolveLevel(L, rhs, beta, coarse ? std::max(200, o_.iters) : o_.iters,
+                              coarse ? o_.accuracy * 1e-3 : o_.accuracy);
+    for (std::size_t i = 0; i < L.nodes.size(); ++i) L.U[i] = P[i] + L.x[i];
+    ctx_.CheckStop();
+  }
+  const auto t1 = Clock::now();
+  double wsum = 0, vsum = 0;
+  for (std::size_t s = 0; s < p_.size(); ++s) {
+    wsum += area_[s];
+    vsum += area_[s] * Chi(p_[s]);
+  }
+  const double iso = vsum / wsum;
+  Mesh m = Extract(iso);
+  const auto t2 = Clock::now();
+  if (warm) {
+    auto nw = std::make_shared<SpsrWarmStart>();
+    nw->full_depth = F_;
+    for (Level& L : lv_) {
+      nw->nodes.push_back(std::move(L.nodes));
+      nw->x.push_back(std::move(L.x));
+    }
+    *warm = std::move(nw);
+  }
+  if (info) {
+    info->depth = Lmax_;
+    info->iso_value = iso;
+    info->area = wsum;
+    info->unknowns = unknowns;
+    info->cg_iterations = total_iters;
+    info->warm_started = w != nullptr;
+    info->solve_s = std::chrono::duration<double>(t1 - t0).count();
+    info->extract_s = std::chrono::duration<double>(t2 - t1).count();
+  }
+  return m;
+}
+
+Mesh ReconstructSpsr(const PointCloud& oriented, const SpsrOptions& options, const Context& ctx,
+                     std::shared_ptr<SpsrWarmStart>* warm, SpsrInfo* info) {
+  ARCS_CHECK_OPTION(options.depth >= 2 && options.depth <= 12, "depth", options.depth, "an integer in [2, 12]");
+  ARCS_CHECK_OPTION(options.full_depth >= 1 && options.full_depth <= 8, "full_depth", options.full_depth,
+                    "an integer in [1, 8]");
+  ARCS_CHECK_OPTION(std::isfinite(options.scale) && options.scale >= 1.01 && options.scale <= 16.0, "scale",
+                    options.scale, "in [1.01, 16]");
+  ARCS_CHECK_OPTION(std::isfinite(options.samples_per_node) && options.samples_per_node >= 0.5 &&
+                        options.samples_per_node <= 100.0,
+                    "samples_per_node", options.samples_per_node, "in [0.5, 100]");
+  ARCS_CHECK_OPTION(std::isfinite(options.point_weight) && options.point_weight >= 0 && options.point_weight <= 1e6,
+                    "point_weight", options.point_weight, "in [0, 1e6]");
+  ARCS_CHECK_OPTION(options.iters >= 1 && options.iters <= 10000, "iters", options.iters, "in [1, 10000]");
+  ARCS_CHECK_OPTION(options.accuracy > 0 && options.accuracy < 1, "accuracy", options.accuracy, "in (0, 1)");
+  ARCS_CHECK_OPTION(options.kernel_depth_offset >= 0 && options.kernel_depth_offset <= 6, "kernel_depth_offset",
+                    options.kernel_depth_offset, "in [0, 6]");
+  Solver solver(options, ctx);
+  return solver.Run(oriented, warm, info);
+}
+
+}  // namespace arcs

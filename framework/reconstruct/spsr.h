@@ -1,0 +1,88 @@
+// arcs' own screened Poisson surface reconstruction (Kazhdan & Hoppe 2013),
+// written for Reach for the Arcs: the official RFTA calls PoissonRecon with
+// FEM degree 1, Neumann boundary, depth 10, 1.5 samples per node and point
+// weight 10 (area-normalised), and neither Debian library can be told all of
+// that (docs/poisson.md). This one can, and it can be warm-started from the
+// previous fine-tuning iteration's solution, which PoissonRecon cannot.
+//
+// The method, in the unit cube [0,1]^3 that the points' bounding cube
+// (side `scale` x the largest bounding-box extent, centred) is mapped onto:
+//  * Octree. Levels 0..depth; level d has cells of side h = 2^-d. Levels up
+//    to full_depth are complete. Each sample s gets a depth d_s from its
+//    density (below): its cell and the 26 around it exist at every level up
+//    to ceil(d_s). The tree is then graded: when a cell exists at level d,
+//    its parent's 26 neighbours exist at d-1.
+//  * Basis. FEM degree 1: a trilinear hat ("tent") at every corner of an
+//    existing cell of level d. Functions of all levels together span the
+//    indicator χ = Σ_d Σ_i x_i^d B_i^d. Neumann boundary: tents at the cube's
+//    faces are cut there (natural boundary condition).
+//  * Density and depth. Each sample is splatted with a tent into the grid of
+//    the kernel depth k = depth - 2; Dens_s, the splat interpolated at the
+//    sample, is ~ (samples per unit area) x h_k^2. The sample's area weight is
+//    a_s = h_k^2 / Dens_s, and its depth d_s = k + log4(Dens_s / samples_per_node)
+//    clamped to [full_depth, depth]: the level whose cells hold about
+//    samples_per_node samples (PoissonRecon's adaptive sample depth).
+//  * Vector field. V = -Σ_s a_s N_s K_s, where K_s is the tent of the
+//    sample's cell at depth d_s normalised to unit integral (split between
+//    floor(d_s) and ceil(d_s) by the fraction), so χ rises by ~1 from outside
+//    to inside.
+//  * Energy. E(χ) = ∫ |∇χ - V|^2 + α ā 2^d Σ_s χ(p_s)^2 at level d, with α =
+//    point_weight and ā the mean a_s: PoissonRecon's pointWeight times the
+//    average sample weight, and the screening scaled with the resolution (the
+//    2D reconstructor does the same, docs/planar.md) so its balance with the
+//    gradient term is the same at every level.
+//  * Solver. Cascadic, coarse to fine (as PoissonRecon): level full_depth is
+//    solved completely, then each finer level for its own coefficients with
+//    the coarser solution fixed (its gradient and values enter the right-hand
+//    side exactly, through the nested tents), by Jacobi-preconditioned
+//    conjugate gradients to a relative residual `accuracy` or `iters` steps.
+//  * Iso-surface. The iso-value is the a_s-weighted mean of χ at the samples.
+//    The surface is extracted at the finest level by marching cubes
+//    (framework/geometry's watertight case table), tracked cell to cell from
+//    every sample's cell and from the sign changes of the complete level, with
+//    χ evaluated exactly (trilinear on the finest grid): a closed, manifold,
+//    outward-wound mesh unless the surface reaches the cube's boundary.
+// Deterministic: every set is sorted, every sum is in a fixed order.
+#pragma once
+
+#include "framework/context.h"
+#include "framework/types.h"
+
+#include <memory>
+
+namespace arcs {
+
+struct SpsrOptions {
+  int depth = 10;               // finest level (2..12)
+  int full_depth = 5;           // levels up to here are complete (clamped to depth)
+  double scale = 3.2;           // cube side / largest bounding-box extent (official: 1.1x padding per side)
+  double samples_per_node = 1.5;
+  double point_weight = 10.0;   // α, PoissonRecon's --pointWeight (area-normalised); 0 = unscreened
+  int iters = 40;               // CG steps per level above full_depth (cap)
+  double accuracy = 1e-3;       // CG relative residual
+  int kernel_depth_offset = 2;  // density kernel at depth - this
+};
+
+// Solution of one call, reusable as the starting guess of the next
+// (coefficients matched by octree node). Opaque.
+struct SpsrWarmStart;
+
+struct SpsrInfo {
+  int depth = 0;               // finest level with cells
+  double iso_value = 0;
+  double area = 0;             // Σ a_s, in units of the cube's side squared
+  long long unknowns = 0;      // coefficients over all levels
+  int cg_iterations = 0;       // summed over levels
+  bool warm_started = false;
+  double solve_s = 0, extract_s = 0;
+};
+
+// Oriented points (normals pointing out, any non-zero length) -> mesh in the
+// points' frame. `warm` (optional): in, the previous call's solution (null =
+// cold start); out, this call's. Throws Error on fewer than 10 points,
+// missing/zero/non-finite normals, non-finite points, all points at one
+// place, or options out of range.
+Mesh ReconstructSpsr(const PointCloud& oriented, const SpsrOptions& options, const Context& ctx,
+                     std::shared_ptr<SpsrWarmStart>* warm = nullptr, SpsrInfo* info = nullptr);
+
+}  // namespace arcs
