@@ -120,6 +120,12 @@ struct CaseData {
   std::optional<VolumeGrid> volume;
   // Metrics and facts in insertion order; the runner writes them as columns.
   std::vector<std::pair<std::string, double>> metrics;
+  // What a nested stage may keep between the calls one caller makes for this
+  // case (RFTA's fine-tuning reconstructor warm-starts its solve from the
+  // previous iteration's): the caller carries it from call to call; the
+  // stage that wrote it is the only one that reads it (`nested_state_owner`).
+  std::shared_ptr<void> nested_state;
+  std::string nested_state_owner;
   // Wall time of every stage that ran on this case (nested ones included),
   // in the order they finished; recorded by Stage::Run.
   std::vector<std::pair<std::string, double>> stage_seconds;

@@ -6,6 +6,7 @@
 #include "framework/error.h"
 #include "framework/reconstruct/poisson_open3d.h"
 #include "framework/reconstruct/poisson_pcl.h"
+#include "framework/reconstruct/spsr.h"
 #include "framework/spatial/knn.h"
 
 #include <Eigen/Geometry>
@@ -38,6 +39,8 @@ void PoissonOptions::Check() const {
                     "in [1.01, 16]");
   ARCS_CHECK_OPTION(threads >= 1 && threads <= 256, "threads", threads,
                     "an integer in [1, 256]");
+  ARCS_CHECK_OPTION(cg_iters >= 1 && cg_iters <= 10000, "cg_iters", cg_iters, "an integer in [1, 10000]");
+  ARCS_CHECK_OPTION(cg_accuracy > 0.0 && cg_accuracy < 1.0, "cg_accuracy", cg_accuracy, "in (0, 1)");
 }
 
 bool PoissonAvailable() { return poisson_detail::PclAvailable(); }
@@ -338,11 +341,39 @@ double EstimatePoissonSampleArea(const PointCloud& oriented, double scale, int d
 }
 
 Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& options,
-                        const Context& ctx, double* used_weight) {
+                        const Context& ctx, double* used_weight, std::shared_ptr<void>* warm) {
   options.Check();
   const Box box = ValidateInput(oriented);
   ctx.CheckStop();
   const int depth = options.depth > 0 ? options.depth : AutoDepthFromBox(oriented, options, box);
+  if (options.backend == PoissonOptions::Backend::kArcs) {
+    SpsrOptions so;
+    so.depth = depth;
+    so.full_depth = std::max(1, std::min(options.min_depth, 8));
+    so.scale = options.scale;
+    so.samples_per_node = options.samples_per_node;
+    so.point_weight = options.point_weight;
+    so.iters = options.cg_iters;
+    so.accuracy = options.cg_accuracy;
+    std::shared_ptr<SpsrWarmStart> state;
+    const bool use_warm = warm && options.warm_start;
+    if (use_warm) state = std::static_pointer_cast<SpsrWarmStart>(*warm);
+    SpsrInfo info;
+    ctx.Info("screened Poisson (arcs): " + std::to_string(oriented.P.rows()) + " points, depth " +
+             std::to_string(depth) + ", point weight " + std::to_string(options.point_weight));
+    Mesh mesh = ReconstructSpsr(oriented, so, ctx, use_warm ? &state : nullptr, &info);
+    if (use_warm) *warm = state;
+    if (mesh.F.rows() == 0) {
+      throw Error("screened Poisson (arcs): no surface (depth " + std::to_string(depth) + ", " +
+                  std::to_string(oriented.P.rows()) + " points); the points may not bound a volume");
+    }
+    if (SignedVolume(mesh) < 0.0) {
+      ctx.Info("screened Poisson: the normals point inward; flipping the output to outward");
+      mesh.F.col(1).swap(mesh.F.col(2));
+    }
+    if (used_weight) *used_weight = options.point_weight;
+    return mesh;
+  }
   const bool open3d = options.backend == PoissonOptions::Backend::kOpen3d;
   if (!open3d && !PoissonAvailable()) throw Error("screened Poisson needs PCL: install libpcl-dev");
   if (open3d && !PoissonOpen3dAvailable())

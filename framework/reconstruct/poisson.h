@@ -26,6 +26,8 @@
 #include "framework/types.h"
 #include "framework/util/enum_names.h"
 
+#include <memory>
+
 namespace arcs {
 
 struct PoissonOptions {
@@ -83,8 +85,18 @@ struct PoissonOptions {
   // samples per node, area-normalised weight -- but the weight is fixed at
   // 2 and min_depth, samples_per_node, manifold and point_weight are not
   // settable: point_weight other than 2 is reported and ignored).
-  enum class Backend { kPcl, kOpen3d };
+  // kArcs: arcs' own screened Poisson (spsr.h): FEM degree 1, Neumann,
+  // adaptive sample depth, point_weight always area-normalised (PoissonRecon's
+  // meaning), deterministic at any thread count, warm-startable; manifold,
+  // threads, open_retries and area_normalized do not apply.
+  enum class Backend { kPcl, kOpen3d, kArcs };
   Backend backend = Backend::kPcl;
+  // kArcs only: CG steps per octree level (cap) and relative residual, and
+  // whether a repeated call for the same case (RFTA's fine-tuning) starts
+  // from the previous solution.
+  int cg_iters = 40;
+  double cg_accuracy = 1e-3;
+  bool warm_start = true;
   // false: point_weight is PCL's own number (PCL divides it by the point
   // count: per-point screening w * 2^d / N). true: it means what
   // PoissonRecon 16/18's --pointWeight means (the official RFTA passes 10):
@@ -102,7 +114,9 @@ struct PoissonOptions {
 };
 // The screened_poisson stage's `backend` names, in its choice order.
 inline constexpr EnumName<PoissonOptions::Backend> kPoissonBackendNames[] = {
-    {PoissonOptions::Backend::kPcl, "pcl"}, {PoissonOptions::Backend::kOpen3d, "open3d"}};
+    {PoissonOptions::Backend::kPcl, "pcl"},
+    {PoissonOptions::Backend::kOpen3d, "open3d"},
+    {PoissonOptions::Backend::kArcs, "arcs"}};
 
 // The depth the automatic rule picks for `points` with `options.scale`:
 //   depth = round(log2(scale * extent / h)) + 1, clamped to [6, 10],
@@ -142,8 +156,11 @@ int AutoPoissonDepth(const PointCloud& oriented, const PoissonOptions& options);
 // not in list") straight to stderr/stdout, which arcs cannot reroute without
 // hijacking the process's file descriptors.
 // `used_weight` (optional) receives the point weight of the returned mesh.
+// `warm` (backend kArcs with warm_start, optional): the previous call's
+// solution in, this call's out (see spsr.h); other back-ends ignore it.
 Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& options,
-                        const Context& ctx, double* used_weight = nullptr);
+                        const Context& ctx, double* used_weight = nullptr,
+                        std::shared_ptr<void>* warm = nullptr);
 
 // True when arcs was built with the PCL back-end.
 bool PoissonAvailable();

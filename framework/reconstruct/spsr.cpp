@@ -200,6 +200,7 @@ class Solver {
   Vec3 ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z) const;
   int SolveLevel(Level& L, const std::vector<double>& b, double beta, int max_iters, double tol);
   double Value(int level, Key k);
+  int extract_level_ = 0;
   // χ_{<d} at level-d grid node (x, y, z): the coarser levels' solution.
   double Coarse(int d, int x, int y, int z);
   double Chi(const Vec3& p);
@@ -643,9 +644,19 @@ double Solver::Chi(const Vec3& p) {
 }
 
 Mesh Solver::Extract(double iso) {
-  const int L = Lmax_;
+  // The extraction level: the samples' depth at the chosen quantile (the
+  // octree's leaves are at the samples' depths, where PoissonRecon extracts).
+  int L = Lmax_;
+  if (o_.extract_quantile < 1.0) {
+    std::vector<double> ds = depth_;
+    const std::size_t q = std::min(ds.size() - 1, static_cast<std::size_t>(o_.extract_quantile * (ds.size() - 1) + 0.5));
+    std::nth_element(ds.begin(), ds.begin() + static_cast<std::ptrdiff_t>(q), ds.end());
+    L = std::clamp(static_cast<int>(std::ceil(ds[q] - 1e-9)), F_, Lmax_);
+  }
+  extract_level_ = L;
   const int res = 1 << L;
-  auto g = [&](int x, int y, int z) { return iso - Value(L, Pack(x, y, z)); };  // < 0 inside
+  const int up = Lmax_ - L;  // grid nodes of level L are nodes of the finest level
+  auto g = [&](int x, int y, int z) { return iso - Value(Lmax_, Pack(x << up, y << up, z << up)); };  // < 0 inside
   // Node values of the finest grid, cached.
   KeyMap gmap;
   std::vector<double> gval;
@@ -868,6 +879,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
   }
   if (info) {
     info->depth = Lmax_;
+    info->extract_depth = extract_level_;
     info->iso_value = iso;
     info->area = wsum;
     info->unknowns = unknowns;

@@ -61,6 +61,10 @@ struct SpsrOptions {
   int iters = 40;               // CG steps per level above full_depth (cap)
   double accuracy = 1e-3;       // CG relative residual
   int kernel_depth_offset = 2;  // density kernel at depth - this
+  // The marching-cubes level: the samples' depth at this quantile, rounded
+  // up (1 = the finest level with cells). The solution is the same; a finer
+  // level only resolves it more finely, with more triangles.
+  double extract_quantile = 0.5;
 };
 
 // Solution of one call, reusable as the starting guess of the next
@@ -69,6 +73,7 @@ struct SpsrWarmStart;
 
 struct SpsrInfo {
   int depth = 0;               // finest level with cells
+  int extract_depth = 0;       // level of the marching cubes
   double iso_value = 0;
   double area = 0;             // Σ a_s, in units of the cube's side squared
   long long unknowns = 0;      // coefficients over all levels

@@ -35,7 +35,12 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
       .Enum("backend", &O::backend, kPoissonBackendNames,
             "pcl: pcl::Poisson (PoissonRecon ~v5 port, FEM degree 2); open3d: Open3D 0.16's PoissonRecon 12 "
             "(FEM degree 1, Neumann, 1.5 samples/node, area-normalised weight fixed at 2; depth, scale, threads "
-            "only)")
+            "only); arcs: our own (FEM degree 1, Neumann, area-normalised weight, warm-startable; docs/poisson.md)")
+      .Int("cg_iters", &O::cg_iters, "backend arcs: conjugate-gradient steps per octree level (cap)",
+           Closed(1, 10000))
+      .Double("cg_accuracy", &O::cg_accuracy, "backend arcs: relative residual the CG stops at", Open(0.0, 1.0))
+      .Bool("warm_start", &O::warm_start,
+            "backend arcs: a repeated call for one case (RFTA's fine-tuning) starts from the previous solution")
       .Bool("area_normalized", &O::area_normalized,
             "point_weight in PoissonRecon's units (the official RFTA: 10), i.e. scaled by the estimated sample "
             "area in the reconstruction cube; false: PCL's own units (divided by the point count)");
@@ -47,7 +52,14 @@ void RunScreenedPoisson(Context& ctx, CaseData& d, const PoissonOptions& options
   // Resolve the automatic depth here so the row records the depth used.
   if (o.depth == 0) o.depth = AutoPoissonDepth(*d.points, o);
   double used = o.point_weight;
-  d.output = ReconstructPoisson(*d.points, o, ctx, &used);
+  // The warm start is carried by the caller in nested_state (fine-tuning).
+  std::shared_ptr<void> state;
+  if (d.nested_state_owner == "screened_poisson") state = d.nested_state;
+  d.output = ReconstructPoisson(*d.points, o, ctx, &used, &state);
+  if (state) {
+    d.nested_state = std::move(state);
+    d.nested_state_owner = "screened_poisson";
+  }
   d.SetMetric("poisson_depth", o.depth);
   d.SetMetric("poisson_point_weight", used);
 }

@@ -38,12 +38,22 @@ RftaOptions DecodeRftaOptions(const ParamMap& p) {
   return o;
 }
 
-// Runs the reconstructor stage `spec` on `pc` in a case of its own.
-Surface ReconstructBy(const StageSpec& spec, const PointCloud& pc, Context& ctx, const Registry* registry, int dim) {
+// Runs the reconstructor stage `spec` on `pc` in a case of its own; `carry`
+// (optional) takes the stage's state from one call to the next (warm start).
+Surface ReconstructBy(const StageSpec& spec, const PointCloud& pc, Context& ctx, const Registry* registry, int dim,
+                      CaseData* carry = nullptr) {
   CaseData sub;
   sub.registry = registry;
   sub.points = pc;
+  if (carry) {
+    sub.nested_state = carry->nested_state;
+    sub.nested_state_owner = carry->nested_state_owner;
+  }
   RunNestedStage(spec, ctx, sub);
+  if (carry) {
+    carry->nested_state = std::move(sub.nested_state);
+    carry->nested_state_owner = std::move(sub.nested_state_owner);
+  }
   if (dim == 2) {
     if (!sub.output_curve)
       throw Error("reconstructor '" + spec.stage + "' produced no 2D curve (2D samples need a 2D reconstructor, "
@@ -76,7 +86,8 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
     f.sign = d.free_point_sign;
     return f;
   };
-  parts.tuning = [&](const PointCloud& pc) { return ReconstructBy(tuning_spec, pc, ctx, d.registry, dim); };
+  CaseData carry;
+  parts.tuning = [&](const PointCloud& pc) { return ReconstructBy(tuning_spec, pc, ctx, d.registry, dim, &carry); };
   parts.reconstruct = [&](const PointCloud&) -> Surface {
     RunNestedStage(final_spec, ctx, d);
     if (dim == 2) {
