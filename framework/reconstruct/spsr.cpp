@@ -6,6 +6,7 @@
 
 #include "framework/error.h"
 #include "framework/geometry/marching_cubes.h"
+#include "framework/util/parallel.h"
 
 #include <algorithm>
 #include <array>
@@ -391,8 +392,12 @@ void Solver::BuildTree() {
     } else {
       BuildLevel(L, L.cell_set.SortedKeys(), false);
     }
-    // Samples whose cell exists here.
+    // Samples screened at this level: those whose own depth reaches it (a
+    // sparse sample, e.g. a stray point near denser ones, constrains only
+    // the coarse levels it can support, as its normal is splatted there;
+    // screened at the finest level it made one-cell bubbles around itself).
     for (int s = 0; s < n; ++s) {
+      if (std::ceil(depth_[s] - 1e-9) < d) continue;
       int c[3];
       double w[8];
       CellOf(p_[s], L.res, c, w);
@@ -525,7 +530,7 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
 // CG on (K + beta S) x = rhs for the level's own coefficients (L.x holds the
 // start and receives the result). Returns the iterations used.
 int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, int max_iters, double tol) {
-  const std::size_t nn = L.nodes.size();
+  const std::int64_t nn = static_cast<std::int64_t>(L.nodes.size());
   // Interior stencil (no node on the cube's faces).
   std::array<double, 27> kin{};
   for (int o = 0; o < 27; ++o) {
@@ -535,47 +540,88 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
              t.M(mid, Ox(o)) * t.S(mid, Oy(o)) * t.M(mid, Oz(o)) +
              t.M(mid, Ox(o)) * t.M(mid, Oy(o)) * t.S(mid, Oz(o));
   }
-  auto stencil = [&](std::size_t i, int o) {
+  auto stencil = [&](std::int64_t i, int o) {
     if (!L.on_face[i]) return kin[o];
     const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
     const Tent1D& t = L.tent;
     return t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) + t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
            t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o));
   };
-  std::vector<double> diag(nn);
-  for (std::size_t i = 0; i < nn; ++i) diag[i] = stencil(i, 13);
-  for (std::size_t t = 0; t < L.s_idx.size(); ++t)
-    for (int q = 0; q < 8; ++q) diag[L.s_corner[t][q]] += beta * L.s_w[t][q] * L.s_w[t][q];
-  std::vector<double> sval(L.s_idx.size());
-  auto apply = [&](const std::vector<double>& v, std::vector<double>& out) {
-    for (std::size_t i = 0; i < nn; ++i) {
-      double acc = 0;
-      const int* nb = &L.nbr[i * 27];
-      for (int o = 0; o < 27; ++o)
-        if (nb[o] >= 0) acc += stencil(i, o) * v[nb[o]];
-      out[i] = acc;
-    }
-    if (beta > 0) {
-      for (std::size_t t = 0; t < L.s_idx.size(); ++t) {
-        double s = 0;
-        for (int q = 0; q < 8; ++q) s += L.s_w[t][q] * v[L.s_corner[t][q]];
-        sval[t] = beta * s;
+  // Screening as a gather: per node, the (sample slot, weight) pairs touching it.
+  const std::int64_t ns = static_cast<std::int64_t>(L.s_idx.size());
+  std::vector<int> start(nn + 1, 0), slot(static_cast<std::size_t>(ns) * 8);
+  std::vector<double> sw(static_cast<std::size_t>(ns) * 8);
+  for (std::int64_t t = 0; t < ns; ++t)
+    for (int q = 0; q < 8; ++q) ++start[L.s_corner[t][q] + 1];
+  for (std::int64_t i = 0; i < nn; ++i) start[i + 1] += start[i];
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::int64_t t = 0; t < ns; ++t)
+      for (int q = 0; q < 8; ++q) {
+        const int at = fill[L.s_corner[t][q]]++;
+        slot[at] = static_cast<int>(t);
+        sw[at] = L.s_w[t][q];
       }
-      for (std::size_t t = 0; t < L.s_idx.size(); ++t)
-        for (int q = 0; q < 8; ++q) out[L.s_corner[t][q]] += L.s_w[t][q] * sval[t];
+  }
+  std::vector<double> diag(nn);
+  ParallelFor(nn, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i) {
+      double d = stencil(i, 13);
+      for (int k = start[i]; k < start[i + 1]; ++k) d += beta * sw[k] * sw[k];
+      diag[i] = d;
     }
+  }, 4096);
+  std::vector<double> sval(ns);
+  auto apply = [&](const std::vector<double>& v, std::vector<double>& out) {
+    if (beta > 0) {
+      ParallelFor(ns, [&](std::int64_t b, std::int64_t e) {
+        for (std::int64_t t = b; t < e; ++t) {
+          double s = 0;
+          for (int q = 0; q < 8; ++q) s += L.s_w[t][q] * v[L.s_corner[t][q]];
+          sval[t] = beta * s;
+        }
+      }, 4096);
+    }
+    ParallelFor(nn, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i) {
+        double acc = 0;
+        const int* nb = &L.nbr[i * 27];
+        if (!L.on_face[i]) {
+          for (int o = 0; o < 27; ++o)
+            if (nb[o] >= 0) acc += kin[o] * v[nb[o]];
+        } else {
+          for (int o = 0; o < 27; ++o)
+            if (nb[o] >= 0) acc += stencil(i, o) * v[nb[o]];
+        }
+        if (beta > 0)
+          for (int k = start[i]; k < start[i + 1]; ++k) acc += sw[k] * sval[slot[k]];
+        out[i] = acc;
+      }
+    }, 4096);
   };
-  auto dot = [](const std::vector<double>& a, const std::vector<double>& b) {
+  // Dot products in fixed blocks summed in order: the same at any thread count.
+  constexpr std::int64_t kBlock = 8192;
+  const std::int64_t nblocks = (nn + kBlock - 1) / kBlock;
+  std::vector<double> part(nblocks);
+  auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    ParallelFor(nblocks, [&](std::int64_t lo, std::int64_t hi) {
+      for (std::int64_t k = lo; k < hi; ++k) {
+        double s = 0;
+        const std::int64_t e = std::min(nn, (k + 1) * kBlock);
+        for (std::int64_t i = k * kBlock; i < e; ++i) s += a[i] * b[i];
+        part[k] = s;
+      }
+    }, 1);
     double s = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+    for (double v : part) s += v;
     return s;
   };
   std::vector<double> r(nn), z(nn), p(nn), q(nn);
   apply(L.x, q);
-  for (std::size_t i = 0; i < nn; ++i) r[i] = rhs[i] - q[i];
+  for (std::int64_t i = 0; i < nn; ++i) r[i] = rhs[i] - q[i];
   const double bnorm = std::sqrt(dot(rhs, rhs));
   if (bnorm == 0) return 0;
-  for (std::size_t i = 0; i < nn; ++i) z[i] = r[i] / diag[i];
+  for (std::int64_t i = 0; i < nn; ++i) z[i] = r[i] / diag[i];
   p = z;
   double rz = dot(r, z);
   int it = 0;
@@ -585,15 +631,19 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
     const double pq = dot(p, q);
     if (!(pq > 0)) break;
     const double alpha = rz / pq;
-    for (std::size_t i = 0; i < nn; ++i) {
-      L.x[i] += alpha * p[i];
-      r[i] -= alpha * q[i];
-    }
-    for (std::size_t i = 0; i < nn; ++i) z[i] = r[i] / diag[i];
+    ParallelFor(nn, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i) {
+        L.x[i] += alpha * p[i];
+        r[i] -= alpha * q[i];
+        z[i] = r[i] / diag[i];
+      }
+    }, 8192);
     const double rz2 = dot(r, z);
     const double beta_cg = rz2 / rz;
     rz = rz2;
-    for (std::size_t i = 0; i < nn; ++i) p[i] = z[i] + beta_cg * p[i];
+    ParallelFor(nn, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i) p[i] = z[i] + beta_cg * p[i];
+    }, 8192);
   }
   return it;
 }

@@ -26,7 +26,8 @@
 //    sample's cell at depth d_s normalised to unit integral (split between
 //    floor(d_s) and ceil(d_s) by the fraction), so χ rises by ~1 from outside
 //    to inside.
-//  * Energy. E(χ) = ∫ |∇χ - V|^2 + α ā 2^d Σ_s χ(p_s)^2 at level d, with α =
+//  * Energy. E(χ) = ∫ |∇χ - V|^2 + α ā 2^d Σ_s χ(p_s)^2 at level d, the sum
+//    over the samples whose depth reaches d (ceil(d_s) >= d), with α =
 //    point_weight and ā the mean a_s: PoissonRecon's pointWeight times the
 //    average sample weight, and the screening scaled with the resolution (the
 //    2D reconstructor does the same, docs/planar.md) so its balance with the

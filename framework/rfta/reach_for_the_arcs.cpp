@@ -133,6 +133,13 @@ RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options
     if (std::get<Polyline>(r.surface).Empty()) throw Error("rfta: the final 2D reconstruction is empty");
   } else if (!std::holds_alternative<Mesh>(r.surface)) {
     throw Error("rfta: the reconstructor gave a 2D curve for 3D samples");
+  } else if (options.drop_infeasible_components) {
+    const double tol = options.fine_tune.search.tol * ComputeUnitFrame(samples).scale;
+    r.components = DropInfeasibleComponents(&std::get<Mesh>(r.surface), samples, tol);
+    if (r.components.dropped > 0)
+      ctx.Info("rfta: dropped " + std::to_string(r.components.dropped) + " of " +
+               std::to_string(r.components.components) +
+               " components lying mostly inside the samples' spheres");
   }
   r.final_s = Since(t0);
   after(RftaPart::kFinal);

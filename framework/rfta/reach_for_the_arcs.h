@@ -15,6 +15,7 @@
 
 #include "framework/context.h"
 #include "framework/reconstruct/poisson.h"
+#include "framework/rfta/component_filter.h"
 #include "framework/reconstruct/poisson2d.h"
 #include "framework/rfta/arc_projector.h"
 #include "framework/rfta/fine_tune.h"
@@ -48,6 +49,11 @@ struct RftaOptions {
   // half of the outside spheres conflict; kError = refuse; kIgnore = go on.
   enum class OnSignConflict { kWarn, kError, kIgnore };
   OnSignConflict on_sign_conflict = OnSignConflict::kWarn;
+  // 3D: remove components of the final mesh most of whose vertices lie
+  // inside a sample's sphere by more than fine_tune.search.tol (the samples
+  // rule them out; framework/rfta/component_filter.h). Not in the paper: the
+  // official code keeps them. The largest component is always kept.
+  bool drop_infeasible_components = true;
   // The default reconstructors (used where RftaParts leaves one empty).
   PoissonOptions poisson;          // 3D final surface: screened Poisson defaults
   // 3D surfaces inside fine-tuning: three octree levels coarser, at least 4
@@ -82,6 +88,7 @@ struct RftaResult {
   FineTuneResult tuning;           // per-iteration statistics (its points are moved into `points`)
   std::int64_t sign_conflicts = 0;     // positive spheres overlapping a negative one by more than 1e-4
   double sign_conflict_depth = 0;      // the deepest such overlap (input units)
+  ComponentFilterStats components;     // the final mesh's components and those dropped
   // Wall time of each part (seconds).
   double sampler_s = 0, projector_s = 0, fine_tune_s = 0, final_s = 0;
 };

@@ -31,6 +31,7 @@ RftaOptions DecodeRftaOptions(const ParamMap& p) {
   o.fine_tune.final_check = fc == "drop"     ? FineTuneOptions::FinalCheck::kDrop
                             : fc == "repair" ? FineTuneOptions::FinalCheck::kRepair
                                              : FineTuneOptions::FinalCheck::kOff;
+  o.drop_infeasible_components = p.GetBool("drop_infeasible_components");
   const std::string sc = p.GetString("on_sign_conflict");
   o.on_sign_conflict = sc == "error"    ? RftaOptions::OnSignConflict::kError
                        : sc == "ignore" ? RftaOptions::OnSignConflict::kIgnore
@@ -143,6 +144,8 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
   RftaResult r = ReachForTheArcs(samples, options, parts, ctx);
   if (dim == 2) d.output_curve = std::get<Polyline>(std::move(r.surface));
   else d.output = std::get<Mesh>(std::move(r.surface));
+  if (dim == 3 && options.drop_infeasible_components)
+    d.SetMetric("rfta_dropped_components", static_cast<double>(r.components.dropped));
   d.SetMetric("rfta_final_s", r.final_s);
 }
 
@@ -177,6 +180,9 @@ void RegisterRfta(Registry& r) {
       .Choice("final_check", "off", {"off", "drop", "repair"},
               "fine_tune's check of the tuned points against all spheres before the final reconstruction "
               "(off: the paper; drop / repair: see fine_tune)")
+      .Bool("drop_infeasible_components", true,
+            "3D: remove final components most of whose vertices lie inside a sample's sphere by more than tol "
+            "(ruled out by the samples; not in the paper, the official code keeps them)")
       .Choice("on_sign_conflict", "warn", {"warn", "error", "ignore"},
               "positive and negative spheres that overlap (not an SDF; noisy SDFs, Fig. 23, have some): "
               "warn and go on (refused when more than half of the outside spheres conflict), fail the case, "
