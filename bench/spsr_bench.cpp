@@ -97,9 +97,11 @@ void Compare(const std::string& name, const PointCloud& pc, const Mesh& truth, i
     Row("PoissonRecon12 w2", ref, truth, nullptr);
   }
   if (PoissonAvailable()) Row("PCL w2 (area-norm.)", Time(repeats, [&] { return ReconstructPoisson(pc, o, ctx); }), truth, pr);
+  const double expo = std::getenv("SPSR_EXPONENT") ? std::atof(std::getenv("SPSR_EXPONENT")) : 1.0;
   for (double w : {2.0, 10.0}) {
     SpsrOptions so;
     so.point_weight = w;
+    so.screen_depth_exponent = expo;
     SpsrInfo info;
     const Timed t = Time(repeats, [&] { return ReconstructSpsr(pc, so, ctx, nullptr, &info); });
     Row(w == 2.0 ? "arcs spsr w2" : "arcs spsr w10", t, truth, pr);

@@ -41,6 +41,20 @@ void PoissonOptions::Check() const {
                     "an integer in [1, 256]");
   ARCS_CHECK_OPTION(cg_iters >= 1 && cg_iters <= 10000, "cg_iters", cg_iters, "an integer in [1, 10000]");
   ARCS_CHECK_OPTION(cg_accuracy > 0.0 && cg_accuracy < 1.0, "cg_accuracy", cg_accuracy, "in (0, 1)");
+  ARCS_CHECK_OPTION(extract_quantile >= 0.0 && extract_quantile <= 1.0, "extract_quantile", extract_quantile,
+                    "in [0, 1]");
+}
+
+PoissonOptions OfficialRftaPoisson() {
+  PoissonOptions o;
+  o.backend = PoissonOptions::Backend::kArcs;
+  o.depth = 10;
+  o.scale = 3.2;
+  o.samples_per_node = 1.5;
+  o.point_weight = 10.0;
+  o.area_normalized = true;
+  o.open_retries = 0;
+  return o;
 }
 
 bool PoissonAvailable() { return poisson_detail::PclAvailable(); }
@@ -355,6 +369,7 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
     so.point_weight = options.point_weight;
     so.iters = options.cg_iters;
     so.accuracy = options.cg_accuracy;
+    so.extract_quantile = options.extract_quantile;
     std::shared_ptr<SpsrWarmStart> state;
     const bool use_warm = warm && options.warm_start;
     if (use_warm) state = std::static_pointer_cast<SpsrWarmStart>(*warm);

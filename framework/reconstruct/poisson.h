@@ -97,6 +97,9 @@ struct PoissonOptions {
   int cg_iters = 40;
   double cg_accuracy = 1e-3;
   bool warm_start = true;
+  // kArcs: the marching-cubes level is the samples' octree depth at this
+  // quantile, rounded up (1 = the finest level); see spsr.h.
+  double extract_quantile = 0.5;
   // false: point_weight is PCL's own number (PCL divides it by the point
   // count: per-point screening w * 2^d / N). true: it means what
   // PoissonRecon 16/18's --pointWeight means (the official RFTA passes 10):
@@ -112,6 +115,13 @@ struct PoissonOptions {
   // Throws OptionError naming the field and its allowed range.
   void Check() const;
 };
+// The surface the official Reach for the Arcs makes (its every call, the
+// fine-tuning surfaces and the final one; ../shared/notes/rfta_official_facts.md
+// §2) with arcs' own solver: FEM degree 1, Neumann, depth 10 in a cube 3.2x
+// the cloud, 1.5 samples per node, PoissonRecon's point weight 10
+// (area-normalised), no open-surface re-solves. Measured in docs/poisson.md.
+PoissonOptions OfficialRftaPoisson();
+
 // The screened_poisson stage's `backend` names, in its choice order.
 inline constexpr EnumName<PoissonOptions::Backend> kPoissonBackendNames[] = {
     {PoissonOptions::Backend::kPcl, "pcl"},

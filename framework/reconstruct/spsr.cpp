@@ -862,7 +862,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
   for (int d = F_; d <= Lmax_; ++d) {
     Level& L = At(d);
     unknowns += static_cast<long long>(L.nodes.size());
-    const double beta = o_.point_weight * mean_area_ * static_cast<double>(1 << d);
+    const double beta = o_.point_weight * mean_area_ * std::pow(2.0, o_.screen_depth_exponent * d);
     std::vector<double> P(L.nodes.size(), 0.0);
     std::vector<double> rhs = b[d - F_];
     if (d > F_) {

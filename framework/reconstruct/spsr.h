@@ -66,6 +66,8 @@ struct SpsrOptions {
   // up (1 = the finest level with cells). The solution is the same; a finer
   // level only resolves it more finely, with more triangles.
   double extract_quantile = 0.5;
+  // The screening at level d is scaled by 2^(screen_depth_exponent * d).
+  double screen_depth_exponent = 1.0;
 };
 
 // Solution of one call, reusable as the starting guess of the next

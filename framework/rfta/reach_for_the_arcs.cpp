@@ -24,11 +24,14 @@ SurfaceReconstructor DefaultRftaReconstructor(int dim, const RftaOptions& option
     return [o, &ctx](const PointCloud& pc) -> Surface { return ReconstructPoisson2D(pc, o, ctx); };
   }
   const PoissonOptions o = tuning ? options.tuning_poisson : options.poisson;
-  return [o, &ctx](const PointCloud& pc) -> Surface {
+  // The tuning surfaces are solved again and again for one case: carry the
+  // solution from one call to the next (backend arcs warm-starts from it).
+  auto state = std::make_shared<std::shared_ptr<void>>();
+  return [o, &ctx, state](const PointCloud& pc) -> Surface {
     PoissonOptions r = o;
     r.Check();
     if (r.depth == 0) r.depth = AutoPoissonDepth(pc, r);
-    return ReconstructPoisson(pc, r, ctx);
+    return ReconstructPoisson(pc, r, ctx, nullptr, state.get());
   };
 }
 

@@ -55,24 +55,16 @@ struct RftaOptions {
   // official code keeps them. The largest component is always kept.
   bool drop_infeasible_components = true;
   // The default reconstructors (used where RftaParts leaves one empty).
-  PoissonOptions poisson;          // 3D final surface: screened Poisson defaults
-  // 3D surfaces inside fine-tuning: three octree levels coarser, at least 4
-  // points per leaf, no re-solve of open surfaces (they only steer the
-  // points; measured trade-off in the `rfta` stage's doc and docs/decisions.md).
-  PoissonOptions tuning_poisson = [] {
-    PoissonOptions o;
-    o.depth_offset = -3;
-    o.samples_per_node = 4.0;
-    o.open_retries = 0;
-    return o;
-  }();
-  Poisson2DOptions poisson_2d;     // 2D final curve
-  // 2D curves inside fine-tuning: half as fine (the 3D preset's 2D twin).
-  Poisson2DOptions tuning_poisson_2d = [] {
-    Poisson2DOptions o;
-    o.resolution_shift = -1;
-    return o;
-  }();
+  // 3D, the final surface and those inside fine-tuning: the official call
+  // (OfficialRftaPoisson: arcs' own screened Poisson, depth 10, cube 3.2x,
+  // weight 10 area-normalised), one preset for both as in the official code;
+  // the tuning surfaces warm-start from the previous iteration's solution.
+  PoissonOptions poisson = OfficialRftaPoisson();
+  PoissonOptions tuning_poisson = OfficialRftaPoisson();
+  Poisson2DOptions poisson_2d;         // 2D final curve
+  // 2D curves inside fine-tuning: the same as the final one (as in 3D, where
+  // the official code makes every surface with one call).
+  Poisson2DOptions tuning_poisson_2d;
   void Check() const;  // throws OptionError naming the field
 };
 

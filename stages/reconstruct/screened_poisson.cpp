@@ -39,6 +39,9 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
       .Int("cg_iters", &O::cg_iters, "backend arcs: conjugate-gradient steps per octree level (cap)",
            Closed(1, 10000))
       .Double("cg_accuracy", &O::cg_accuracy, "backend arcs: relative residual the CG stops at", Open(0.0, 1.0))
+      .Double("extract_quantile", &O::extract_quantile,
+              "backend arcs: marching cubes at the samples' octree depth at this quantile, rounded up (1 = finest)",
+              Closed(0.0, 1.0))
       .Bool("warm_start", &O::warm_start,
             "backend arcs: a repeated call for one case (RFTA's fine-tuning) starts from the previous solution")
       .Bool("area_normalized", &O::area_normalized,

@@ -6,6 +6,7 @@
 #include "framework/rfta/fine_tune.h"
 #include "framework/rfta/reach_for_the_arcs.h"
 #include "registry/bind.h"
+#include "stages/reconstruct/screened_poisson_spec.h"
 #include "stages/builtin.h"
 #include "stages/reconstruct/screened_poisson_2d.h"
 #include "stages/rfta/rfta_params.h"
@@ -35,8 +36,9 @@ Binder<FineTuneOptions> FineTuneParams() {
       .Enum("final_check", &O::final_check, O::kFinalCheckNames,
             "after the last iteration, points inside any sphere (all of them, not a batch) by more than tol: "
             "kept (off, the paper), dropped, or repaired by Alg. 2 against all spheres (dropped if that fails)")
-      .Stage("reconstructor", "reconstructor", "screened_poisson",
-             "surface reconstructor the points are tuned against (paper: screened Poisson)");
+      .Stage("reconstructor", "reconstructor", OfficialPoissonSpec(),
+             "surface reconstructor the points are tuned against (paper: screened Poisson; default the official "
+             "call, warm-started from the previous iteration)");
 }
 
 void RunFineTune(Context& ctx, CaseData& d, const FineTuneOptions& o, const ParamMap& p) {

@@ -14,6 +14,7 @@
 #include "registry/registry.h"
 #include "stages/builtin.h"
 #include "stages/reconstruct/screened_poisson_2d.h"
+#include "stages/reconstruct/screened_poisson_spec.h"
 
 namespace arcs {
 
@@ -163,20 +164,12 @@ void RegisterRfta(Registry& r) {
       .Int("max_points_per_sphere", 3, "n_max tangency points per sphere (paper default 3; Table 1/2 runs 30)", 1, 1000)
       .Int("batch_size", 10000, "b constraint spheres, drawn without replacement (paper 10 000; 0 = all)", 0,
            1000000000)
-      .Stage("reconstructor", "reconstructor", "screened_poisson",
-             "surface reconstructor of the final mesh (paper: screened Poisson)")
-      .Stage("tuning_reconstructor", "reconstructor", [] {
-               StageSpec coarse;
-               coarse.stage = "screened_poisson";
-               coarse.params.Set("depth_offset", std::int64_t{-3});
-               coarse.params.Set("samples_per_node", 4.0);
-               coarse.params.Set("open_retries", std::int64_t{0});
-               return coarse;
-             }(),
-             "reconstructor inside fine-tuning: screened Poisson three octree levels coarser than the final, "
-             "at least 4 points per leaf, no re-solve of open surfaces (these surfaces only steer the points; "
-             "bunny_fixed n=20 paper preset: 17.3 s, Chamfer 0.0177, against 26.2 s, 0.0166 at 1.5 points "
-             "per leaf; official 227 s, 0.0219)")
+      .Stage("reconstructor", "reconstructor", OfficialPoissonSpec(),
+             "surface reconstructor of the final mesh (paper: screened Poisson; default the official call: "
+             "arcs' own solver, depth 10, cube 3.2x, 1.5 samples per node, weight 10, docs/poisson.md)")
+      .Stage("tuning_reconstructor", "reconstructor", OfficialPoissonSpec(),
+             "reconstructor inside fine-tuning (default: the same call as the final one, as the official code; "
+             "warm-started from the previous iteration)")
       .Choice("final_check", "off", {"off", "drop", "repair"},
               "fine_tune's check of the tuned points against all spheres before the final reconstruction "
               "(off: the paper; drop / repair: see fine_tune)")

@@ -86,13 +86,9 @@ TEST(PlanarStages, ExplicitPipelineEqualsTheRftaStage) {
     Context ctx(3);
     RunStage(r, "rasterize", ParamMap(), ctx, b);
     RunStage(r, "arc_projector", ParamMap(), ctx, b);
-    ParamMap ft;  // the rfta stage's tuning reconstructor: one power of two coarser in 2D
-    StageSpec coarse{"screened_poisson_2d", [&] {
-                       ParamMap g;
-                       g.Set("resolution_shift", std::int64_t{-1});
-                       return r.Resolve("screened_poisson_2d", g);
-                     }()};
-    ft.Set("reconstructor", std::make_shared<StageSpec>(coarse));
+    ParamMap ft;  // the rfta stage's tuning reconstructor: the final one's 2D twin with its defaults
+    StageSpec same{"screened_poisson_2d", r.Resolve("screened_poisson_2d", ParamMap())};
+    ft.Set("reconstructor", std::make_shared<StageSpec>(same));
     RunStage(r, "fine_tune", ft, ctx, b);
     RunStage(r, "screened_poisson_2d", ParamMap(), ctx, b);
   }
