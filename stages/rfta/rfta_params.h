@@ -28,8 +28,8 @@ inline Binder<FeasibleSearchOptions> FeasibleSearchParams() {
 inline Binder<FineTuneOptions>& FinalCheckParam(Binder<FineTuneOptions>& b) {
   return b.Enum("final_check", &FineTuneOptions::final_check, FineTuneOptions::kFinalCheckNames,
                 "after the last iteration, tuned points inside any sphere (all of them, not a batch) by more than "
-                "tol: repaired by Alg. 2 against all spheres, dropped when that fails (repair), dropped (drop), or "
-                "kept (off, the paper's algorithm). The metrics final_infeasible_before / final_repaired / "
+                "tol: dropped (drop), repaired by Alg. 2 against all spheres and dropped when that fails (repair), "
+                "or kept (off, the paper's algorithm). The metrics final_infeasible_before / final_repaired / "
                 "final_dropped / final_infeasible (violators left) are recorded in every mode");
 }
 

@@ -111,7 +111,7 @@ TEST(FineTune, BadInputIsAClearError) {
 }
 
 // Points inside another sphere (as batches leave them): the final check
-// against all spheres drops or repairs them (repair is the default); off keeps
+// against all spheres drops (the default) or repairs them; off keeps
 // them (the paper) and counts them.
 TEST(FineTune, FinalCheckRemovesOrRepairsPointsInsideOtherSpheres) {
   BallCase s;
@@ -160,6 +160,7 @@ TEST(FineTune, FinalCheckRemovesOrRepairsPointsInsideOtherSpheres) {
   EXPECT_EQ(off.final_repaired + off.final_dropped, 0);
 
   o.final_check = FineTuneOptions::FinalCheck::kDrop;
+  EXPECT_EQ(FineTuneOptions{}.final_check, FineTuneOptions::FinalCheck::kDrop) << "the default (issue 10, criterion 4)";
   const FineTuneResult drop = FineTune(s.samples, pc, sample, FitBall, o, Context(3));
   EXPECT_EQ(drop.final_infeasible_before, static_cast<std::int64_t>(extra.size()));
   EXPECT_EQ(drop.final_repaired, 0);
@@ -169,7 +170,6 @@ TEST(FineTune, FinalCheckRemovesOrRepairsPointsInsideOtherSpheres) {
   EXPECT_LT(max_depth(drop), 2e-4);
 
   o.final_check = FineTuneOptions::FinalCheck::kRepair;
-  EXPECT_EQ(FineTuneOptions{}.final_check, FineTuneOptions::FinalCheck::kRepair) << "the default (issue 10, criterion 4)";
   const FineTuneResult rep = FineTune(s.samples, pc, sample, FitBall, o, Context(3));
   EXPECT_EQ(rep.final_infeasible_before, static_cast<std::int64_t>(extra.size()));
   EXPECT_GT(rep.final_repaired, 0);
