@@ -17,9 +17,9 @@ namespace {
 
 Binder<FineTuneOptions> FineTuneParams() {
   using O = FineTuneOptions;
-  return Binder<O>()
-      .Int("iterations", &O::iterations, "k_max fine-tuning iterations (paper default 10; Table 1/2 runs 20)",
-           Closed(0, 10000))
+  Binder<O> b;
+  b.Int("iterations", &O::iterations, "k_max fine-tuning iterations (paper default 10; Table 1/2 runs 20)",
+        Closed(0, 10000))
       .Int("max_points_per_sphere", &O::max_points_per_sphere,
            "n_max tangency points per sphere (paper default 3; Table 1/2 runs 30)", Closed(1, 1000))
       .Int("batch_size", &O::batch_size, "b constraint spheres per iteration, drawn without replacement (0 = all)",
@@ -32,13 +32,11 @@ Binder<FineTuneOptions> FineTuneParams() {
       .Bool("jump_when_blocked", &O::jump_when_blocked,
             "no feasible step: jump to the target and repair it by Alg. 2 (official) instead of staying")
       .Bool("keep_points_when_missed", &O::keep_points_when_missed,
-            "spheres the surface misses keep all their points (false: only the moved one, paper Alg. 3)")
-      .Enum("final_check", &O::final_check, O::kFinalCheckNames,
-            "after the last iteration, points inside any sphere (all of them, not a batch) by more than tol: "
-            "kept (off, the paper), dropped, or repaired by Alg. 2 against all spheres (dropped if that fails)")
-      .Stage("reconstructor", "reconstructor", OfficialPoissonSpec(),
-             "surface reconstructor the points are tuned against (paper: screened Poisson; default the official "
-             "call, warm-started from the previous iteration)");
+            "spheres the surface misses keep all their points (false: only the moved one, paper Alg. 3)");
+  FinalCheckParam(b).Stage("reconstructor", "reconstructor", OfficialPoissonSpec(),
+                           "surface reconstructor the points are tuned against (paper: screened Poisson; default "
+                           "the official call, warm-started from the previous iteration)");
+  return b;
 }
 
 void RunFineTune(Context& ctx, CaseData& d, const FineTuneOptions& o, const ParamMap& p) {
@@ -48,10 +46,7 @@ void RunFineTune(Context& ctx, CaseData& d, const FineTuneOptions& o, const Para
     d.point_sample = std::move(res.sample);
     d.SetMetric("rfta_points", static_cast<double>(d.points->Size()));
     d.SetMetric("fine_tune_iterations", static_cast<double>(res.iterations.size()));
-    if (o.final_check != FineTuneOptions::FinalCheck::kOff) {
-      d.SetMetric("final_infeasible", static_cast<double>(res.final_infeasible));
-      d.SetMetric("final_repaired", static_cast<double>(res.final_repaired));
-    }
+    SetFinalCheckMetrics(d, res);
     double rec_s = 0;
     for (const auto& it : res.iterations) rec_s += it.reconstruct_s;
     d.SetMetric("fine_tune_reconstruct_s", rec_s);

@@ -15,6 +15,7 @@
 #include "stages/builtin.h"
 #include "stages/reconstruct/screened_poisson_2d.h"
 #include "stages/reconstruct/screened_poisson_spec.h"
+#include "stages/rfta/rfta_params.h"
 
 namespace arcs {
 
@@ -28,10 +29,9 @@ RftaOptions DecodeRftaOptions(const ParamMap& p) {
   o.fine_tune.iterations = static_cast<int>(p.GetInt("iterations"));
   o.fine_tune.max_points_per_sphere = static_cast<int>(p.GetInt("max_points_per_sphere"));
   o.fine_tune.batch_size = p.GetInt("batch_size");
-  const std::string fc = p.GetString("final_check");
-  o.fine_tune.final_check = fc == "drop"     ? FineTuneOptions::FinalCheck::kDrop
-                            : fc == "repair" ? FineTuneOptions::FinalCheck::kRepair
-                                             : FineTuneOptions::FinalCheck::kOff;
+  o.fine_tune.final_check = EnumFromName(std::span<const EnumName<FineTuneOptions::FinalCheck>>(
+                                              FineTuneOptions::kFinalCheckNames),
+                                          p.GetString("final_check"));
   o.drop_infeasible_components = p.GetBool("drop_infeasible_components");
   const std::string sc = p.GetString("on_sign_conflict");
   o.on_sign_conflict = sc == "error"    ? RftaOptions::OnSignConflict::kError
@@ -126,10 +126,7 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
         d.point_sample = r.sample;
         d.SetMetric("rfta_points", static_cast<double>(d.points->Size()));
         d.SetMetric("fine_tune_iterations", static_cast<double>(r.tuning.iterations.size()));
-        if (options.fine_tune.final_check != FineTuneOptions::FinalCheck::kOff) {
-          d.SetMetric("final_infeasible", static_cast<double>(r.tuning.final_infeasible));
-          d.SetMetric("final_repaired", static_cast<double>(r.tuning.final_repaired));
-        }
+        SetFinalCheckMetrics(d, r.tuning);
         double rec_s = 0;
         for (const auto& it : r.tuning.iterations) rec_s += it.reconstruct_s;
         d.SetMetric("fine_tune_reconstruct_s", rec_s);
@@ -170,16 +167,17 @@ void RegisterRfta(Registry& r) {
       .Stage("tuning_reconstructor", "reconstructor", OfficialPoissonSpec(),
              "reconstructor inside fine-tuning (default: the same call as the final one, as the official code; "
              "warm-started from the previous iteration)")
-      .Choice("final_check", "off", {"off", "drop", "repair"},
-              "fine_tune's check of the tuned points against all spheres before the final reconstruction "
-              "(off: the paper; drop / repair: see fine_tune)")
       .Bool("drop_infeasible_components", true,
             "3D: remove final components most of whose vertices lie inside a sample's sphere by more than tol "
-            "(ruled out by the samples; not in the paper, the official code keeps them)")
-      .Choice("on_sign_conflict", "warn", {"warn", "error", "ignore"},
-              "positive and negative spheres that overlap (not an SDF; noisy SDFs, Fig. 23, have some): "
-              "warn and go on (refused when more than half of the outside spheres conflict), fail the case, "
-              "or say nothing and go on");
+            "(ruled out by the samples; not in the paper, the official code keeps them)");
+  // final_check: the fine_tune stage's own declaration (names, default, doc).
+  Binder<FineTuneOptions> final_check;
+  const ParamSchema final_check_schema = FinalCheckParam(final_check).Schema();
+  for (const ParamSpec& spec : final_check_schema.specs()) s.params.Add(spec);
+  s.params.Choice("on_sign_conflict", "warn", {"warn", "error", "ignore"},
+                  "positive and negative spheres that overlap (not an SDF; noisy SDFs, Fig. 23, have some): "
+                  "warn and go on (refused when more than half of the outside spheres conflict), fail the "
+                  "case, or say nothing and go on");
   s.factory = FunctionStage(RunRfta);
   r.Register(std::move(s));
 }

@@ -111,7 +111,8 @@ TEST(FineTune, BadInputIsAClearError) {
 }
 
 // Points inside another sphere (as batches leave them): the final check
-// against all spheres drops or repairs them; off keeps them (the paper).
+// against all spheres drops (the default) or repairs them; off keeps
+// them (the paper) and counts them.
 TEST(FineTune, FinalCheckRemovesOrRepairsPointsInsideOtherSpheres) {
   BallCase s;
   // Every point as projected, plus, for some outside spheres, the far side of
@@ -149,21 +150,31 @@ TEST(FineTune, FinalCheckRemovesOrRepairsPointsInsideOtherSpheres) {
   };
   FineTuneOptions o;
   o.iterations = 0;
+  o.final_check = FineTuneOptions::FinalCheck::kOff;
   const FineTuneResult off = FineTune(s.samples, pc, sample, FitBall, o, Context(3));
   EXPECT_EQ(off.points.Size(), pc.Size());
   EXPECT_GT(max_depth(off), 0.05) << "the far-side points are deep inside other spheres";
+  // off measures the violators and keeps them.
+  EXPECT_EQ(off.final_infeasible_before, static_cast<std::int64_t>(extra.size()));
+  EXPECT_EQ(off.final_infeasible, static_cast<std::int64_t>(extra.size()));
+  EXPECT_EQ(off.final_repaired + off.final_dropped, 0);
 
   o.final_check = FineTuneOptions::FinalCheck::kDrop;
+  EXPECT_EQ(FineTuneOptions{}.final_check, FineTuneOptions::FinalCheck::kDrop) << "the default (issue 10, criterion 4)";
   const FineTuneResult drop = FineTune(s.samples, pc, sample, FitBall, o, Context(3));
-  EXPECT_EQ(drop.final_infeasible, static_cast<std::int64_t>(extra.size()));
+  EXPECT_EQ(drop.final_infeasible_before, static_cast<std::int64_t>(extra.size()));
   EXPECT_EQ(drop.final_repaired, 0);
+  EXPECT_EQ(drop.final_dropped, static_cast<std::int64_t>(extra.size()));
+  EXPECT_EQ(drop.final_infeasible, 0);
   EXPECT_EQ(drop.points.Size(), n0);
   EXPECT_LT(max_depth(drop), 2e-4);
 
   o.final_check = FineTuneOptions::FinalCheck::kRepair;
   const FineTuneResult rep = FineTune(s.samples, pc, sample, FitBall, o, Context(3));
-  EXPECT_EQ(rep.final_infeasible, static_cast<std::int64_t>(extra.size()));
+  EXPECT_EQ(rep.final_infeasible_before, static_cast<std::int64_t>(extra.size()));
   EXPECT_GT(rep.final_repaired, 0);
+  EXPECT_EQ(rep.final_repaired + rep.final_dropped, static_cast<std::int64_t>(extra.size()));
+  EXPECT_EQ(rep.final_infeasible, 0);
   EXPECT_EQ(rep.points.Size(), n0 + rep.final_repaired);
   EXPECT_LT(max_depth(rep), 2e-4);
   for (int j = 0; j < rep.points.Size(); ++j) {
