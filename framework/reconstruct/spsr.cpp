@@ -202,6 +202,7 @@ class Solver {
   int SolveLevel(Level& L, const std::vector<double>& b, double beta, int max_iters, double tol);
   double Value(int level, Key k);
   int extract_level_ = 0;
+  int islands_ = 0;
   // χ_{<d} at level-d grid node (x, y, z): the coarser levels' solution.
   double Coarse(int d, int x, int y, int z);
   double Chi(const Vec3& p);
@@ -707,14 +708,49 @@ Mesh Solver::Extract(double iso) {
   const int res = 1 << L;
   const int up = Lmax_ - L;  // grid nodes of level L are nodes of the finest level
   auto g = [&](int x, int y, int z) { return iso - Value(Lmax_, Pack(x << up, y << up, z << up)); };  // < 0 inside
-  // Node values of the finest grid, cached.
-  KeyMap gmap;
-  std::vector<double> gval;
+  // Node values of the extraction grid, cached (raw), and as marching cubes
+  // sees them: a node whose side of the iso-value differs from all six of
+  // its face neighbours' is an island below the grid's resolution (it makes
+  // a closed component of 8 triangles; stray tuning points inside a solid
+  // made such voids), so with remove_node_islands it takes the mean of
+  // those neighbours.
+  KeyMap rmap, gmap;
+  std::vector<double> rval, gval;
+  auto R = [&](int x, int y, int z) {
+    const Key k = Pack(x, y, z);
+    const int id = rmap.Find(k);
+    if (id >= 0) return rval[id];
+    const double v = g(x, y, z);
+    rmap.Insert(k, static_cast<int>(rval.size()));
+    rval.push_back(v);
+    return v;
+  };
   auto G = [&](int x, int y, int z) {
     const Key k = Pack(x, y, z);
     const int id = gmap.Find(k);
     if (id >= 0) return gval[id];
-    const double v = g(x, y, z);
+    double v = R(x, y, z);
+    if (o_.remove_node_islands) {
+      static const int nb[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+      bool island = true;
+      double mean = 0;
+      int count = 0;
+      for (const auto& o : nb) {
+        const int a = x + o[0], b = y + o[1], c = z + o[2];
+        if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) continue;
+        const double u = R(a, b, c);
+        if ((u < 0) == (v < 0)) {
+          island = false;
+          break;
+        }
+        mean += u;
+        ++count;
+      }
+      if (island && count == 6) {
+        v = mean / count;
+        ++islands_;
+      }
+    }
     gmap.Insert(k, static_cast<int>(gval.size()));
     gval.push_back(v);
     return v;
@@ -930,6 +966,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
   if (info) {
     info->depth = Lmax_;
     info->extract_depth = extract_level_;
+    info->islands_removed = islands_;
     info->iso_value = iso;
     info->area = wsum;
     info->unknowns = unknowns;

@@ -41,7 +41,8 @@
 //    The surface is extracted at the finest level by marching cubes
 //    (framework/geometry's watertight case table), tracked cell to cell from
 //    every sample's cell and from the sign changes of the complete level, with
-//    χ evaluated exactly (trilinear on the finest grid): a closed, manifold,
+//    χ evaluated exactly (trilinear on the finest grid), one-node islands
+//    (a node on the other side from its six neighbours) removed: a closed, manifold,
 //    outward-wound mesh unless the surface reaches the cube's boundary.
 // Deterministic: every set is sorted, every sum is in a fixed order.
 #pragma once
@@ -66,6 +67,10 @@ struct SpsrOptions {
   // up (1 = the finest level with cells). The solution is the same; a finer
   // level only resolves it more finely, with more triangles.
   double extract_quantile = 0.5;
+  // A marching-cubes node on the other side of the iso-value from all six
+  // face neighbours (a one-node island: an 8-triangle component) takes their
+  // mean instead.
+  bool remove_node_islands = true;
   // The screening at level d is scaled by 2^(screen_depth_exponent * d).
   double screen_depth_exponent = 1.0;
 };
@@ -77,6 +82,7 @@ struct SpsrWarmStart;
 struct SpsrInfo {
   int depth = 0;               // finest level with cells
   int extract_depth = 0;       // level of the marching cubes
+  int islands_removed = 0;     // one-node islands given their neighbours' mean
   double iso_value = 0;
   double area = 0;             // Σ a_s, in units of the cube's side squared
   long long unknowns = 0;      // coefficients over all levels

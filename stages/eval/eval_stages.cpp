@@ -46,6 +46,15 @@ void RunTopology(Context&, CaseData& d, const ParamMap&) {
   d.SetMetric("out_oriented", t.oriented);
   d.SetMetric("out_genus", t.genus);
   d.SetMetric("out_components", t.components);
+  // Against the reference, when the case has one (issue 10's topology rates:
+  // the mean of these over cases is the fraction with the reference's genus
+  // and number of components).
+  if (d.reference) {
+    const Topology rt = ComputeTopology(*d.reference);
+    d.SetMetric("ref_components", rt.components);
+    d.SetMetric("genus_matches", t.genus == rt.genus ? 1.0 : 0.0);
+    d.SetMetric("components_match", t.components == rt.components ? 1.0 : 0.0);
+  }
 }
 
 void RunMeshSize(Context&, CaseData& d, const ParamMap&) {
@@ -91,7 +100,10 @@ void RegisterEvalStages(Registry& r) {
              "two-sided sampled Hausdorff: max over surface samples and vertices of both meshes to the other surface",
              "area-uniform samples per mesh", RunHausdorffSampled);
   Add(r, "topology", "output topology: closed, manifold, oriented, genus (-1 if undefined), components",
-      {Slot::kOutput}, {"out_closed", "out_manifold", "out_oriented", "out_genus", "out_components"}, RunTopology);
+      {Slot::kOutput},
+      {"out_closed", "out_manifold", "out_oriented", "out_genus", "out_components", "ref_components", "genus_matches",
+       "components_match"},
+      RunTopology);
   Add(r, "mesh_size", "output vertex and face counts", {Slot::kOutput}, {"out_vertices", "out_faces"}, RunMeshSize);
 }
 

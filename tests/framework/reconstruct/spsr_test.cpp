@@ -142,6 +142,31 @@ TEST(Spsr, DeterministicAndWarmStartConverges) {
   EXPECT_EQ(ComputeTopology(mw).genus, 1);
 }
 
+TEST(Spsr, StrayPointsInsideMakeNoVoids) {
+  // Tangency points that fine-tuning leaves a little inside a solid: each is
+  // pinned to the iso-value by the screening and made a one-node void (an
+  // 8-triangle component) before remove_node_islands.
+  PointCloud pc = SpherePoints(20000, 0.5, Vec3::Zero(), 8);
+  const int base = pc.Size(), extra = 40;
+  pc.P.conservativeResize(base + extra, 3);
+  pc.N.conservativeResize(base + extra, 3);
+  Rng rng(4);
+  for (int i = 0; i < extra; ++i) {
+    const Vec3 d = Vec3(rng.Normal(), rng.Normal(), rng.Normal()).normalized();
+    pc.P.row(base + i) = 0.475 * d;
+    pc.N.row(base + i) = d;
+  }
+  SpsrOptions o;
+  SpsrInfo info;
+  const Mesh clean = ReconstructSpsr(pc, o, Context(1), nullptr, &info);
+  o.remove_node_islands = false;
+  const Mesh raw = ReconstructSpsr(pc, o, Context(1));
+  const int raw_components = ComputeTopology(raw).components;
+  EXPECT_EQ(ComputeTopology(clean).components, 1) << "without the removal: " << raw_components;
+  EXPECT_GT(raw_components, 1) << "the stray points no longer make voids: this test shows nothing";
+  EXPECT_GT(info.islands_removed, 0);
+}
+
 TEST(Spsr, InwardNormalsThroughReconstructPoissonGiveTheSameOutwardSurface) {
   PointCloud pc = SpherePoints(2000, 0.5, Vec3::Zero(), 4);
   PoissonOptions o;
