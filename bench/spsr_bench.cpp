@@ -80,12 +80,8 @@ void Compare(const std::string& name, const PointCloud& pc, const Mesh& truth, i
   Context ctx(1);
   std::printf("%s (%d points)\n  %-22s %7s %7s %8s %5s %5s %10s %10s\n", name.c_str(), pc.Size(), "back-end",
               "wall_s", "cpu_s", "verts", "comp", "genus", "chamfer", "vs_PR12");
-  PoissonOptions o;
-  o.depth = 10;
-  o.scale = 3.2;
-  o.samples_per_node = 1.5;
-  o.open_retries = 0;
-  o.area_normalized = true;
+  PoissonOptions o = OfficialRftaPoisson();  // the official geometry; back-end and weight set below
+  o.backend = PoissonOptions::Backend::kPcl;
   o.point_weight = 2;
   const Mesh* pr = nullptr;
   Timed ref;

@@ -155,6 +155,18 @@ struct Level {
   std::vector<double> x, U;  // own coefficients; accumulated solution χ_{<=d} at the nodes
 };
 
+// Calls fn(o, a, b, c, j) for the 27 stencil neighbours (a, b, c) of node i
+// that lie in the cube; j is the neighbour's unknown index or -1.
+template <class Fn>
+inline void ForStencil(const Level& L, std::size_t i, Fn&& fn) {
+  const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+  for (int o = 0; o < 27; ++o) {
+    const int a = x + Ox(o), b = y + Oy(o), c = z + Oz(o);
+    if (a < 0 || b < 0 || c < 0 || a > L.res || b > L.res || c > L.res) continue;
+    fn(o, a, b, c, L.nbr[i * 27 + o]);
+  }
+}
+
 // The cell (at `res` cells per side) containing unit-cube point p and the
 // trilinear weights of its 8 corners (corner c: offset (c&1, c>>1&1, c>>2&1)).
 inline void CellOf(const Vec3& p, int res, int c[3], double w[8]) {
@@ -457,31 +469,29 @@ void Solver::Splat(std::vector<std::vector<Vec3>>& V) {
 
 void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<std::vector<double>>& b) {
   const int nl = static_cast<int>(lv_.size());
-  // G^d applied to a vector field given on the level's nodes (neighbours
-  // that are not unknowns take `outside(x,y,z)`).
+  // G^d applied to a vector field given on the level's nodes; neighbours
+  // that are not unknowns take the coarser level's field prolonged (or 0
+  // without a coarser level).
   auto apply_g = [&](const Level& L, const std::vector<Vec3>& field, const Level* coarse,
                      const std::vector<Vec3>* coarse_field, std::vector<double>& out) {
     out.assign(L.nodes.size(), 0.0);
     for (std::size_t i = 0; i < L.nodes.size(); ++i) {
       const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
       double acc = 0;
-      for (int o = 0; o < 27; ++o) {
-        const int a = x + Ox(o), bb = y + Oy(o), c = z + Oz(o);
-        if (a < 0 || bb < 0 || c < 0 || a > L.res || bb > L.res || c > L.res) continue;
-        const int j = L.nbr[i * 27 + o];
+      ForStencil(L, i, [&](int o, int a, int bb, int c, int j) {
         Vec3 v;
         if (j >= 0) {
           v = field[j];
         } else if (coarse) {
           v = ProlongVec(*coarse, *coarse_field, a, bb, c);
         } else {
-          continue;
+          return;
         }
-        if (v.isZero(0)) continue;
+        if (v.isZero(0)) return;
         const double mx = L.tent.M(x, Ox(o)), my = L.tent.M(y, Oy(o)), mz = L.tent.M(z, Oz(o));
         acc += v[0] * L.tent.D(x, Ox(o)) * my * mz + v[1] * mx * L.tent.D(y, Oy(o)) * mz +
                v[2] * mx * my * L.tent.D(z, Oz(o));
-      }
+      });
       out[i] = acc;
     }
   };
@@ -908,16 +918,13 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
       for (std::size_t i = 0; i < L.nodes.size(); ++i) {
         const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
         double acc = 0;
-        for (int o = 0; o < 27; ++o) {
-          const int a = x + Ox(o), bb = y + Oy(o), c = z + Oz(o);
-          if (a < 0 || bb < 0 || c < 0 || a > L.res || bb > L.res || c > L.res) continue;
-          const int j = L.nbr[i * 27 + o];
+        ForStencil(L, i, [&](int o, int a, int bb, int c, int j) {
           const double pv = j >= 0 ? P[j] : Coarse(d, a, bb, c);
-          if (pv == 0) continue;
+          if (pv == 0) return;
           acc += pv * (t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) +
                        t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
                        t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o)));
-        }
+        });
         rhs[i] -= acc;
       }
       if (beta > 0) {
