@@ -209,7 +209,7 @@ int CmdSdf(const Args& args) {
       s2 = SampleSdfRandom2D(curve, ParseInt64(args.Get("--random"), "--random", 1, 1000000000), -1.0, 1.0, ctx);
     } else {
       SdfGrid2DOptions o;
-      o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n", 1, 2000) : 20;
+      o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n", 1, SdfGrid2DOptions::kMaxN) : 20;
       s2 = SampleSdfGrid2D(curve, o, ctx);
     }
     const std::string out = args.positional[1];
@@ -231,7 +231,7 @@ int CmdSdf(const Args& args) {
                         SdfSign::kFastWindingNumber, SdfInside::kVoxelizer, &sign);
   } else {
     SdfGridOptions o;
-    o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n", 1, 2000) : 20;
+    o.n = args.Has("--n") ? ParseInt(args.Get("--n"), "--n", 1, SdfGridOptions::kMaxN) : 20;
     s = SampleSdfGrid(m, o, ctx, &sign);
   }
   std::fprintf(stderr, "sign: %s rule, %lld unbalanced edges, %lld of %lld samples inside (%lld by the open-mesh shell)\n",

@@ -11,7 +11,7 @@
 namespace arcs {
 
 void SdfGrid2DOptions::Check() const {
-  ARCS_CHECK_OPTION(n >= 1 && n <= 1 << 14, "sdf_grid_2d.n", n, "in [1, 16384]");
+  ARCS_CHECK_OPTION(n >= 1 && n <= kMaxN, "sdf_grid_2d.n", n, "in [1, " + std::to_string(kMaxN) + "]");
   if (!(std::isfinite(lo) && std::isfinite(hi) && hi > lo))
     throw OptionError("sdf_grid_2d: the box [lo, hi] must be finite with hi > lo (lo = " + std::to_string(lo) +
                       ", hi = " + std::to_string(hi) + ")");

@@ -17,6 +17,7 @@ namespace arcs {
 VectorXd SignedDistance2D(const Polyline& curve, const MatrixXd& points);
 
 struct SdfGrid2DOptions {
+  static constexpr int kMaxN = 1 << 14;  // the largest n (the stage's and the CLI's bound too)
   int n = 20;        // cells per axis: (n+1)^2 nodes of linspace(lo, hi, n+1)^2 (paper protocol)
   double lo = -1.0;  // box lower corner on both axes (paper: -1; the shape fills about [-0.5, 0.5]^2)
   double hi = 1.0;   // box upper corner (paper: 1)

@@ -17,7 +17,7 @@
 namespace arcs {
 
 void SdfGridOptions::Check() const {
-  ARCS_CHECK_OPTION(n >= 1 && n <= 2048, "n", n, "an integer in [1, 2048]");
+  ARCS_CHECK_OPTION(n >= 1 && n <= kMaxN, "n", n, "an integer in [1, " + std::to_string(kMaxN) + "]");
   ARCS_CHECK_OPTION(std::isfinite(lo), "lo", lo, "finite");
   ARCS_CHECK_OPTION(std::isfinite(hi) && hi > lo, "hi", hi, "finite and greater than lo");
   ARCS_CHECK_OPTION(std::isfinite(fwn_beta) && fwn_beta > 0.0, "fwn_beta", fwn_beta,

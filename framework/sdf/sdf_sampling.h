@@ -59,7 +59,8 @@ struct SdfSignReport {
 
 struct SdfGridOptions {
   using Sign = SdfSign;
-  int n = 20;          // cells per axis, in [1, 2048]: (n+1)^3 nodes of linspace(lo, hi, n+1)^3 (paper: 6..100)
+  static constexpr int kMaxN = 2048;  // the largest n (the stages' and the CLI's bound too)
+  int n = 20;          // cells per axis, in [1, kMaxN]: (n+1)^3 nodes of linspace(lo, hi, n+1)^3 (paper: 6..100)
   double lo = -1.0;    // box lower corner on every axis (paper: -1, the shape fills about [-0.5, 0.5])
   double hi = 1.0;     // box upper corner on every axis (paper: 1)
   Sign sign = Sign::kFastWindingNumber;  // sign method (paper: fast winding number)

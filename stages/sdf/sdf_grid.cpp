@@ -12,7 +12,7 @@ namespace {
 Binder<SdfGridOptions> SdfGridParams() {
   using O = SdfGridOptions;
   return Binder<O>()
-      .Int("n", &O::n, "grid cells per axis (the paper's 'grid' n: 6, 10, 20, ..., 100)", Closed(1, 2048))
+      .Int("n", &O::n, "grid cells per axis (the paper's 'grid' n: 6, 10, 20, ..., 100)", Closed(1, SdfGridOptions::kMaxN))
       .Double("lo", &O::lo, "lower grid bound on every axis (paper: -1)")
       .Double("hi", &O::hi, "upper grid bound on every axis (paper: 1; greater than lo)")
       .Enum("sign", &O::sign, kSdfSignNames,

@@ -12,7 +12,7 @@ namespace {
 Binder<SdfGrid2DOptions> SdfGrid2DParams() {
   using O = SdfGrid2DOptions;
   return Binder<O>()
-      .Int("n", &O::n, "grid cells per axis (Fig. 5 style: 10, 20, 40, ...)", Closed(1, 16384))
+      .Int("n", &O::n, "grid cells per axis (Fig. 5 style: 10, 20, 40, ...)", Closed(1, SdfGrid2DOptions::kMaxN))
       .Double("lo", &O::lo, "lower grid bound on both axes (paper: -1)")
       .Double("hi", &O::hi, "upper grid bound on both axes (paper: 1; greater than lo)");
 }

@@ -35,7 +35,7 @@ struct SdfSweepOptions {
 Binder<SdfGridOptions> SweepGridParams() {
   using O = SdfGridOptions;
   return Binder<O>()
-      .Int("n", &O::n, "grid cells per axis ((n+1)^3 nodes of linspace(lo,hi,n+1)^3)", Closed(1, 2048))
+      .Int("n", &O::n, "grid cells per axis ((n+1)^3 nodes of linspace(lo,hi,n+1)^3)", Closed(1, SdfGridOptions::kMaxN))
       .Double("lo", &O::lo, "lower grid bound on every axis")
       .Double("hi", &O::hi, "upper grid bound on every axis (greater than lo)");
 }
