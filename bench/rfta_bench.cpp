@@ -38,6 +38,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <span>
 #include <string>
 
 using namespace arcs;
@@ -65,19 +66,13 @@ bool ViaRegistry() {
 bool OfficialSurfaces(PoissonOptions* o) {
   const char* sf = std::getenv("RFTA_BENCH_SURFACES");
   if (!sf || std::string(sf) != "official") return false;
-  *o = PoissonOptions{};
-  o->depth = 10;
-  o->scale = 3.2;
-  o->samples_per_node = 1.5;
-  o->point_weight = std::getenv("RFTA_BENCH_WEIGHT") ? std::atof(std::getenv("RFTA_BENCH_WEIGHT")) : 10.0;
-  o->area_normalized = true;
-  o->open_retries = 0;
+  *o = OfficialRftaPoisson();
+  o->backend = PoissonOptions::Backend::kPcl;  // RFTA_BENCH_BACKEND picks another
+  if (const char* w = std::getenv("RFTA_BENCH_WEIGHT")) o->point_weight = std::atof(w);
   if (const char* q = std::getenv("RFTA_BENCH_EXTRACT_Q")) o->extract_quantile = std::atof(q);
   if (const char* it = std::getenv("RFTA_BENCH_CG_ITERS")) o->cg_iters = std::atoi(it);
   if (const char* be = std::getenv("RFTA_BENCH_BACKEND"))
-    o->backend = std::string(be) == "open3d" ? PoissonOptions::Backend::kOpen3d
-                 : std::string(be) == "arcs"   ? PoissonOptions::Backend::kArcs
-                                               : PoissonOptions::Backend::kPcl;
+    o->backend = EnumFromName(std::span<const EnumName<PoissonOptions::Backend>>(kPoissonBackendNames), be);
   return true;
 }
 

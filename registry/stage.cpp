@@ -153,9 +153,11 @@ void Stage::Run(Context& ctx, CaseData& data) {
   ctx.Log(LogLevel::kDebug, name + ": " + std::to_string(s) + " s");
 }
 
-void RunNestedStage(const StageSpec& spec, Context& ctx, CaseData& data) {
+void RunNestedStage(const StageSpec& spec, Context& ctx, CaseData& data, NestedState* carry) {
   if (!data.registry) throw Error("internal: nested stage '" + spec.stage + "' needs the case's registry");
+  if (carry) data.nested = *carry;
   data.registry->Create(spec)->Run(ctx, data);
+  if (carry) *carry = std::move(data.nested);
 }
 
 namespace {

@@ -92,6 +92,13 @@ inline bool WorksIn(unsigned dims, int dim) { return dim == 0 || (dims & (dim ==
 // Whether an error message already names `stage` ("stage: ..." or "stage.param ...").
 bool NamesStage(const std::string& what, const std::string& stage);
 
+// State a stage keeps between repeated nested calls for one case: only the
+// stage named `owner` (the one that wrote it) reads it.
+struct NestedState {
+  std::shared_ptr<void> state;
+  std::string owner;
+};
+
 // Everything a case carries from stage to stage.
 struct CaseData {
   // The registry the case runs with, so a stage can run a nested stage (e.g.
@@ -122,10 +129,8 @@ struct CaseData {
   std::vector<std::pair<std::string, double>> metrics;
   // What a nested stage may keep between the calls one caller makes for this
   // case (RFTA's fine-tuning reconstructor warm-starts its solve from the
-  // previous iteration's): the caller carries it from call to call; the
-  // stage that wrote it is the only one that reads it (`nested_state_owner`).
-  std::shared_ptr<void> nested_state;
-  std::string nested_state_owner;
+  // previous iteration's); RunNestedStage carries it from call to call.
+  NestedState nested;
   // Wall time of every stage that ran on this case (nested ones included),
   // in the order they finished; recorded by Stage::Run.
   std::vector<std::pair<std::string, double>> stage_seconds;
@@ -167,8 +172,10 @@ class Stage {
 using StageFactory = std::function<std::unique_ptr<Stage>(const ParamMap&)>;
 
 // Runs the nested stage `spec` (a resolved kStage parameter) on `data`, using
-// data.registry. Throws Error if the case has no registry.
-void RunNestedStage(const StageSpec& spec, Context& ctx, CaseData& data);
+// data.registry. Throws Error if the case has no registry. `carry`
+// (optional): the stage's NestedState from the previous call goes in, this
+// call's comes back (a caller calling the same stage repeatedly).
+void RunNestedStage(const StageSpec& spec, Context& ctx, CaseData& data, NestedState* carry = nullptr);
 
 struct StageInfo {
   std::string name;

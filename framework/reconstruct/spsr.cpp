@@ -231,7 +231,6 @@ class Solver {
   std::vector<Level> lv_;  // index d - F
   std::vector<KeyMap> memo_map_;
   std::vector<std::vector<double>> memo_val_;
-  long long prolong_misses_ = 0;
   Level& At(int d) { return lv_[d - F_]; }
 };
 
@@ -953,12 +952,10 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
     ctx_.CheckStop();
   }
   const auto t1 = Clock::now();
-  double wsum = 0, vsum = 0;
-  for (std::size_t s = 0; s < p_.size(); ++s) {
-    wsum += area_[s];
-    vsum += area_[s] * Chi(p_[s]);
-  }
-  const double iso = vsum / wsum;
+  double vsum = 0;
+  for (std::size_t s = 0; s < p_.size(); ++s) vsum += area_[s] * Chi(p_[s]);
+  const double area = mean_area_ * static_cast<double>(p_.size());
+  const double iso = vsum / area;
   Mesh m = Extract(iso);
   const auto t2 = Clock::now();
   if (warm) {
@@ -975,7 +972,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
     info->extract_depth = extract_level_;
     info->islands_removed = islands_;
     info->iso_value = iso;
-    info->area = wsum;
+    info->area = area;
     info->unknowns = unknowns;
     info->cg_iterations = total_iters;
     info->warm_started = w != nullptr;

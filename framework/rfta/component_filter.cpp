@@ -1,54 +1,33 @@
 #include "framework/rfta/component_filter.h"
 
+#include "framework/rfta/sphere_set.h"
 #include "framework/rfta/sphere_tree.h"
+#include "framework/spatial/topology.h"
 #include "framework/util/parallel.h"
 
 #include <algorithm>
-#include <numeric>
 #include <vector>
 
 namespace arcs {
-
-namespace {
-
-int Find(std::vector<int>& parent, int a) {
-  while (parent[a] != a) a = parent[a] = parent[parent[a]];
-  return a;
-}
-
-}  // namespace
 
 ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samples, double tol,
                                               double max_inside_fraction) {
   ComponentFilterStats st;
   const int nv = mesh->NumVertices(), nf = mesh->NumFaces();
   if (nf == 0 || samples.Size() == 0) return st;
-  std::vector<int> parent(nv);
-  std::iota(parent.begin(), parent.end(), 0);
-  for (int f = 0; f < nf; ++f)
-    for (int k = 1; k < 3; ++k) {
-      const int a = Find(parent, mesh->F(f, 0)), b = Find(parent, mesh->F(f, k));
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  std::vector<int> comp(nv, -1), root_comp(nv, -1);
-  std::vector<char> used(nv, 0);
-  for (int f = 0; f < nf; ++f)
-    for (int k = 0; k < 3; ++k) used[mesh->F(f, k)] = 1;
+  // Vertex -> component (through its faces); -1 for unreferenced vertices.
   int nc = 0;
-  for (int v = 0; v < nv; ++v) {
-    if (!used[v]) continue;
-    const int r = Find(parent, v);
-    if (root_comp[r] < 0) root_comp[r] = nc++;
-    comp[v] = root_comp[r];
-  }
+  const std::vector<int> face_comp = FaceComponents(*mesh, &nc);
+  std::vector<int> comp(nv, -1);
+  for (int f = 0; f < nf; ++f)
+    for (int k = 0; k < 3; ++k) comp[mesh->F(f, k)] = face_comp[f];
   st.components = nc;
   if (nc <= 1) return st;
   MatrixX3d centers(samples.Size(), 3);
   VectorXd radii(samples.Size());
   std::vector<int> ids(samples.Size());
   for (Eigen::Index i = 0; i < samples.Size(); ++i) {
-    centers.row(i).setZero();
-    for (int a = 0; a < samples.dim; ++a) centers(i, a) = samples.points(i, a);
+    centers.row(i) = SamplePoint(samples, i).transpose();
     radii[i] = std::abs(samples.values[i]);
     ids[i] = static_cast<int>(i);
   }
@@ -56,7 +35,7 @@ ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samp
   std::vector<char> inside(nv, 0);
   ParallelFor(nv, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t v = b; v < e; ++v)
-      if (used[v]) inside[v] = tree.AnyContains(mesh->V.row(v).transpose(), -tol, -1);
+      if (comp[v] >= 0) inside[v] = tree.AnyContains(mesh->V.row(v).transpose(), -tol, -1);
   });
   std::vector<int> nverts(nc, 0), ninside(nc, 0), nfaces(nc, 0);
   for (int v = 0; v < nv; ++v) {
@@ -64,7 +43,7 @@ ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samp
     ++nverts[comp[v]];
     ninside[comp[v]] += inside[v];
   }
-  for (int f = 0; f < nf; ++f) ++nfaces[comp[mesh->F(f, 0)]];
+  for (int f = 0; f < nf; ++f) ++nfaces[face_comp[f]];
   const int largest = static_cast<int>(std::max_element(nfaces.begin(), nfaces.end()) - nfaces.begin());
   std::vector<char> drop(nc, 0);
   for (int c = 0; c < nc; ++c) {
@@ -87,7 +66,7 @@ ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samp
   out.F.resize(nf - st.dropped_faces, 3);
   int k = 0;
   for (int f = 0; f < nf; ++f) {
-    if (drop[comp[mesh->F(f, 0)]]) continue;
+    if (drop[face_comp[f]]) continue;
     out.F.row(k++) << remap[mesh->F(f, 0)], remap[mesh->F(f, 1)], remap[mesh->F(f, 2)];
   }
   *mesh = std::move(out);

@@ -37,6 +37,24 @@ class UnionFind {
 
 }  // namespace
 
+std::vector<int> FaceComponents(const Mesh& mesh, int* count) {
+  const int nf = mesh.NumFaces();
+  UnionFind verts(static_cast<std::size_t>(mesh.NumVertices()));
+  for (int f = 0; f < nf; ++f) {
+    verts.Union(mesh.F(f, 0), mesh.F(f, 1));
+    verts.Union(mesh.F(f, 1), mesh.F(f, 2));
+  }
+  std::vector<int> root_comp(static_cast<std::size_t>(mesh.NumVertices()), -1), comp(nf);
+  int nc = 0;
+  for (int f = 0; f < nf; ++f) {
+    const int r = verts.Find(mesh.F(f, 0));
+    if (root_comp[r] < 0) root_comp[r] = nc++;
+    comp[f] = root_comp[r];
+  }
+  if (count) *count = nc;
+  return comp;
+}
+
 void CheckMeshIndices(const Mesh& mesh, const char* who, bool finite) {
   const int nv = mesh.NumVertices();
   for (int f = 0; f < mesh.NumFaces(); ++f) {

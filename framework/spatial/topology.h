@@ -34,6 +34,12 @@ struct Topology {
 // directed edge occurs twice.
 Topology ComputeTopology(const Mesh& mesh);
 
+// The connected component of every face (faces sharing a vertex are one
+// component, as in ComputeTopology), numbered 0, 1, ... in the order of each
+// component's first face. `count` (optional) receives the number of
+// components. Face indices must be valid (CheckMeshIndices).
+std::vector<int> FaceComponents(const Mesh& mesh, int* count = nullptr);
+
 // Throws InputError("<who>: face f has vertex index i, the mesh has n
 // vertices") unless every face index is in [0, #V) and, with `finite`, every
 // vertex used by a face has finite coordinates.

@@ -55,14 +55,11 @@ void RunScreenedPoisson(Context& ctx, CaseData& d, const PoissonOptions& options
   // Resolve the automatic depth here so the row records the depth used.
   if (o.depth == 0) o.depth = AutoPoissonDepth(*d.points, o);
   double used = o.point_weight;
-  // The warm start is carried by the caller in nested_state (fine-tuning).
+  // The warm start, carried by a caller that runs this stage repeatedly.
   std::shared_ptr<void> state;
-  if (d.nested_state_owner == "screened_poisson") state = d.nested_state;
+  if (d.nested.owner == "screened_poisson") state = d.nested.state;
   d.output = ReconstructPoisson(*d.points, o, ctx, &used, &state);
-  if (state) {
-    d.nested_state = std::move(state);
-    d.nested_state_owner = "screened_poisson";
-  }
+  if (state) d.nested = NestedState{std::move(state), "screened_poisson"};
   d.SetMetric("poisson_depth", o.depth);
   d.SetMetric("poisson_point_weight", used);
 }

@@ -69,16 +69,12 @@ void RunFineTune(Context& ctx, CaseData& d, const FineTuneOptions& o, const Para
     record(std::move(res));
     return;
   }
-  CaseData carry;  // the reconstructor's state from one iteration to the next (warm start)
+  NestedState carry;  // the reconstructor's state from one iteration to the next (warm start)
   PointsToMesh reconstruct = [&](const PointCloud& pc) {
     CaseData sub;
     sub.registry = d.registry;
     sub.points = pc;
-    sub.nested_state = carry.nested_state;
-    sub.nested_state_owner = carry.nested_state_owner;
-    RunNestedStage(rec, ctx, sub);
-    carry.nested_state = std::move(sub.nested_state);
-    carry.nested_state_owner = std::move(sub.nested_state_owner);
+    RunNestedStage(rec, ctx, sub, &carry);
     if (!sub.output) throw Error("reconstructor '" + rec.stage + "' produced no mesh");
     return *sub.output;
   };

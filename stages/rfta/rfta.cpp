@@ -43,19 +43,11 @@ RftaOptions DecodeRftaOptions(const ParamMap& p) {
 // Runs the reconstructor stage `spec` on `pc` in a case of its own; `carry`
 // (optional) takes the stage's state from one call to the next (warm start).
 Surface ReconstructBy(const StageSpec& spec, const PointCloud& pc, Context& ctx, const Registry* registry, int dim,
-                      CaseData* carry = nullptr) {
+                      NestedState* carry = nullptr) {
   CaseData sub;
   sub.registry = registry;
   sub.points = pc;
-  if (carry) {
-    sub.nested_state = carry->nested_state;
-    sub.nested_state_owner = carry->nested_state_owner;
-  }
-  RunNestedStage(spec, ctx, sub);
-  if (carry) {
-    carry->nested_state = std::move(sub.nested_state);
-    carry->nested_state_owner = std::move(sub.nested_state_owner);
-  }
+  RunNestedStage(spec, ctx, sub, carry);
   if (dim == 2) {
     if (!sub.output_curve)
       throw Error("reconstructor '" + spec.stage + "' produced no 2D curve (2D samples need a 2D reconstructor, "
@@ -88,7 +80,7 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
     f.sign = d.free_point_sign;
     return f;
   };
-  CaseData carry;
+  NestedState carry;
   parts.tuning = [&](const PointCloud& pc) { return ReconstructBy(tuning_spec, pc, ctx, d.registry, dim, &carry); };
   parts.reconstruct = [&](const PointCloud&) -> Surface {
     RunNestedStage(final_spec, ctx, d);

@@ -5,7 +5,7 @@
 
 #include "framework/error.h"
 #include "framework/geometry/builtin_shapes.h"
-#include "framework/geometry/surface_sampling.h"
+#include "framework/points/sample_points.h"
 #include "framework/reconstruct/poisson.h"
 #include "framework/spatial/topology.h"
 #include "framework/util/rng.h"
@@ -36,16 +36,9 @@ PointCloud SpherePoints(int n, double r, const Vec3& c, std::uint64_t seed) {
 }
 
 PointCloud TorusPoints(int n, std::uint64_t seed) {
-  const Mesh t = MakeTorus();
-  PointCloud pc;
-  Eigen::VectorXi face;
-  pc.P = SampleSurfaceUniform(t, n, seed, &face);
-  pc.N.resize(n, 3);
-  for (int i = 0; i < n; ++i) {
-    const Vec3 a = t.V.row(t.F(face[i], 0)), b = t.V.row(t.F(face[i], 1)), c = t.V.row(t.F(face[i], 2));
-    pc.N.row(i) = (b - a).cross(c - a).normalized();
-  }
-  return pc;
+  SurfacePointOptions o;
+  o.count = n;
+  return SampleSurfacePoints(MakeTorus(), o, seed);
 }
 
 double Volume(const Mesh& m) {
