@@ -334,15 +334,17 @@ void Solver::BuildLevel(Level& L, const std::vector<Key>& cells, bool complete) 
   const std::size_t nn = L.nodes.size();
   L.nbr.assign(nn * 27, -1);
   L.on_face.assign(nn, 0);
-  for (std::size_t i = 0; i < nn; ++i) {
-    const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
-    L.on_face[i] = (x == 0 || y == 0 || z == 0 || x == L.res || y == L.res || z == L.res);
-    for (int o = 0; o < 27; ++o) {
-      const int a = x + Ox(o), b = y + Oy(o), c = z + Oz(o);
-      if (a < 0 || b < 0 || c < 0 || a > L.res || b > L.res || c > L.res) continue;
-      L.nbr[i * 27 + o] = L.node_map.Find(Pack(a, b, c));
+  ParallelFor(static_cast<std::int64_t>(nn), [&](std::int64_t b0, std::int64_t e0) {
+    for (std::int64_t i = b0; i < e0; ++i) {
+      const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+      L.on_face[i] = (x == 0 || y == 0 || z == 0 || x == L.res || y == L.res || z == L.res);
+      for (int o = 0; o < 27; ++o) {
+        const int a = x + Ox(o), b = y + Oy(o), c = z + Oz(o);
+        if (a < 0 || b < 0 || c < 0 || a > L.res || b > L.res || c > L.res) continue;
+        L.nbr[i * 27 + o] = L.node_map.Find(Pack(a, b, c));
+      }
     }
-  }
+  }, 2048);
   L.x.assign(nn, 0.0);
   L.U.assign(nn, 0.0);
 }
@@ -474,25 +476,28 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
   auto apply_g = [&](const Level& L, const std::vector<Vec3>& field, const Level* coarse,
                      const std::vector<Vec3>* coarse_field, std::vector<double>& out) {
     out.assign(L.nodes.size(), 0.0);
-    for (std::size_t i = 0; i < L.nodes.size(); ++i) {
-      const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
-      double acc = 0;
-      ForStencil(L, i, [&](int o, int a, int bb, int c, int j) {
-        Vec3 v;
-        if (j >= 0) {
-          v = field[j];
-        } else if (coarse) {
-          v = ProlongVec(*coarse, *coarse_field, a, bb, c);
-        } else {
-          return;
-        }
-        if (v.isZero(0)) return;
-        const double mx = L.tent.M(x, Ox(o)), my = L.tent.M(y, Oy(o)), mz = L.tent.M(z, Oz(o));
-        acc += v[0] * L.tent.D(x, Ox(o)) * my * mz + v[1] * mx * L.tent.D(y, Oy(o)) * mz +
-               v[2] * mx * my * L.tent.D(z, Oz(o));
-      });
-      out[i] = acc;
-    }
+    // Each row on its own (reads only): the same sums at any thread count.
+    ParallelFor(static_cast<std::int64_t>(L.nodes.size()), [&](std::int64_t b0, std::int64_t e0) {
+      for (std::int64_t i = b0; i < e0; ++i) {
+        const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+        double acc = 0;
+        ForStencil(L, static_cast<std::size_t>(i), [&](int o, int a, int bb, int c, int j) {
+          Vec3 v;
+          if (j >= 0) {
+            v = field[j];
+          } else if (coarse) {
+            v = ProlongVec(*coarse, *coarse_field, a, bb, c);
+          } else {
+            return;
+          }
+          if (v.isZero(0)) return;
+          const double mx = L.tent.M(x, Ox(o)), my = L.tent.M(y, Oy(o)), mz = L.tent.M(z, Oz(o));
+          acc += v[0] * L.tent.D(x, Ox(o)) * my * mz + v[1] * mx * L.tent.D(y, Oy(o)) * mz +
+                 v[2] * mx * my * L.tent.D(z, Oz(o));
+        });
+        out[i] = acc;
+      }
+    }, 2048);
   };
   // Upward: Vacc^d, the exact level-d representation of V^F + ... + V^d.
   std::vector<std::vector<Vec3>> vacc(nl);
@@ -503,8 +508,10 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
     va = V[d - F_];
     if (d > F_) {
       const Level& C = At(d - 1);
-      for (std::size_t i = 0; i < L.nodes.size(); ++i)
-        va[i] += ProlongVec(C, vacc[d - 1 - F_], KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
+      ParallelFor(static_cast<std::int64_t>(L.nodes.size()), [&](std::int64_t b0, std::int64_t e0) {
+        for (std::int64_t i = b0; i < e0; ++i)
+          va[i] += ProlongVec(C, vacc[d - 1 - F_], KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
+      }, 4096);
     }
     apply_g(L, va, d > F_ ? &At(d - 1) : nullptr, d > F_ ? &vacc[d - 1 - F_] : nullptr, b[d - F_]);
   }
@@ -518,18 +525,20 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
     if (d < Lmax_) {
       const Level& Fl = At(d + 1);
       static const double w1[3] = {0.5, 1.0, 0.5};
-      for (std::size_t i = 0; i < L.nodes.size(); ++i) {
-        const int x = 2 * KX(L.nodes[i]), y = 2 * KY(L.nodes[i]), z = 2 * KZ(L.nodes[i]);
-        double acc = 0;
-        for (int o = 0; o < 27; ++o) {
-          const int a = x + Ox(o), bb = y + Oy(o), c = z + Oz(o);
-          if (a < 0 || bb < 0 || c < 0 || a > Fl.res || bb > Fl.res || c > Fl.res) continue;
-          const int j = Fl.node_map.Find(Pack(a, bb, c));
-          if (j < 0) continue;
-          acc += w1[Ox(o) + 1] * w1[Oy(o) + 1] * w1[Oz(o) + 1] * fine_next[j];
+      ParallelFor(static_cast<std::int64_t>(L.nodes.size()), [&](std::int64_t b0, std::int64_t e0) {
+        for (std::int64_t i = b0; i < e0; ++i) {
+          const int x = 2 * KX(L.nodes[i]), y = 2 * KY(L.nodes[i]), z = 2 * KZ(L.nodes[i]);
+          double acc = 0;
+          for (int o = 0; o < 27; ++o) {
+            const int a = x + Ox(o), bb = y + Oy(o), c = z + Oz(o);
+            if (a < 0 || bb < 0 || c < 0 || a > Fl.res || bb > Fl.res || c > Fl.res) continue;
+            const int j = Fl.node_map.Find(Pack(a, bb, c));
+            if (j < 0) continue;
+            acc += w1[Ox(o) + 1] * w1[Oy(o) + 1] * w1[Oz(o) + 1] * fine_next[j];
+          }
+          fine[i] = acc;
         }
-        fine[i] = acc;
-      }
+      }, 2048);
     }
     for (std::size_t i = 0; i < L.nodes.size(); ++i) b[d - F_][i] += fine[i];
     fine_next.assign(L.nodes.size(), 0.0);

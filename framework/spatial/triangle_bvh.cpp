@@ -287,32 +287,34 @@ void TriangleBvh::Impl::Build() {
   for (int f = 0; f < nf; ++f) order[f] = f;
   bin.reserve(std::max(1, 2 * nf));
 
-  // Iterative build with an explicit stack of (node index, begin, end).
+  // Iterative build with an explicit stack of (node index, begin, end), in
+  // two phases: the top of the tree serially, down to subtrees of at most
+  // `defer` triangles; then those subtrees in parallel, each into its own node
+  // array, appended in a fixed order. A subtree's splits depend only on its
+  // own range of `order`, so the tree is the serial build's at any thread
+  // count, and the depth-first re-layout below makes the layout identical too.
   struct Task {
     int node, begin, end;
   };
-  std::vector<Task> stack;
-  bin.emplace_back();
-  stack.push_back({0, 0, nf});
-  while (!stack.empty()) {
-    const Task task = stack.back();
-    stack.pop_back();
+  // Splits task's node of `out` (filled in place) and pushes its children;
+  // false for a leaf.
+  auto split = [&](const Task& task, std::vector<Node>& out, std::vector<Task>& stack) {
     Bounds box, cbox;
     for (int i = task.begin; i < task.end; ++i) {
       const BuildItem& it = items[order[i]];
       box.Grow(it.lo, it.hi);
       cbox.GrowPoint(it.c);
     }
-    Node& node = bin[task.node];
+    Node& node = out[task.node];
     for (int k = 0; k < 3; ++k) node.lo[k] = box.lo[k], node.hi[k] = box.hi[k];
     const int n = task.end - task.begin;
     auto make_leaf = [&] {
-      bin[task.node].first = task.begin;
-      bin[task.node].count = n;
+      out[task.node].first = task.begin;
+      out[task.node].count = n;
     };
     if (n <= 1) {
       make_leaf();
-      continue;
+      return;
     }
     // Binned SAH over the centroid bounds, all three axes.
     int best_axis = -1, best_split = -1;
@@ -352,7 +354,7 @@ void TriangleBvh::Impl::Build() {
     const double leaf_cost = box.HalfArea() * n;
     if (n <= kMaxLeaf && (best_axis < 0 || best_cost + box.HalfArea() >= leaf_cost)) {
       make_leaf();
-      continue;
+      return;
     }
     int mid;
     if (best_axis < 0) {
@@ -367,15 +369,56 @@ void TriangleBvh::Impl::Build() {
       mid = static_cast<int>(it - order.begin());
       if (mid == task.begin || mid == task.end) mid = task.begin + n / 2;
     }
-    // Depth-first layout: left child right after the parent.
-    const int left = static_cast<int>(bin.size());
-    bin.emplace_back();
+    const int left = static_cast<int>(out.size());
+    out.emplace_back();
     const int right = left + 1;  // children are allocated as a pair
-    bin.emplace_back();
-    bin[task.node].count = 0;
-    bin[task.node].first = right;
+    out.emplace_back();
+    out[task.node].count = 0;
+    out[task.node].first = right;
     stack.push_back({right, mid, task.end});
     stack.push_back({left, task.begin, mid});
+  };
+  const int defer = std::max(4096, nf / 8);
+  std::vector<Task> stack, deferred;
+  bin.emplace_back();
+  stack.push_back({0, 0, nf});
+  while (!stack.empty()) {
+    const Task task = stack.back();
+    stack.pop_back();
+    if (task.end - task.begin <= defer && task.node != 0) {
+      deferred.push_back(task);
+      continue;
+    }
+    split(task, bin, stack);
+  }
+  std::vector<std::vector<Node>> sub(deferred.size());
+  ParallelFor(static_cast<std::int64_t>(deferred.size()), [&](std::int64_t b0, std::int64_t e0) {
+    for (std::int64_t k = b0; k < e0; ++k) {
+      std::vector<Node>& out = sub[k];
+      out.reserve(2 * (deferred[k].end - deferred[k].begin));
+      out.emplace_back();
+      std::vector<Task> st{{0, deferred[k].begin, deferred[k].end}};
+      while (!st.empty()) {
+        const Task task = st.back();
+        st.pop_back();
+        split(task, out, st);
+      }
+    }
+  }, 1);
+  // Append: a subtree's node i > 0 goes to offset + i - 1, its root to the
+  // deferred node; pairs stay adjacent, so right children map alike.
+  for (std::size_t k = 0; k < deferred.size(); ++k) {
+    const std::vector<Node>& out = sub[k];
+    const int offset = static_cast<int>(bin.size());
+    auto map = [&](int i) { return i == 0 ? deferred[k].node : offset + i - 1; };
+    for (std::size_t i = 1; i < out.size(); ++i) {
+      Node nd = out[i];
+      if (nd.count == 0) nd.first = map(nd.first);
+      bin.push_back(nd);
+    }
+    Node root = out[0];
+    if (root.count == 0) root.first = map(root.first);
+    bin[deferred[k].node] = root;
   }
   // Depth-first re-layout of the binary tree (left child = parent + 1).
   {
@@ -449,6 +492,11 @@ void TriangleBvh::Impl::Build() {
     int node4;    // its 4-wide index
     int depth;
   };
+  // The oriented boxes are fitted afterwards, in parallel (each writes its own slot).
+  struct Fit {
+    int node4, slot, begin, end;
+  };
+  std::vector<Fit> fits;
   nodes.reserve(nb / 2 + 1);
   nodes.emplace_back();
   std::vector<Pending> todo{{0, 0, 1}};
@@ -492,7 +540,7 @@ void TriangleBvh::Impl::Build() {
         fill.lo[k][j] = RoundDown(c.lo[k] - origin[k]);
         fill.hi[k][j] = RoundUp(c.hi[k] - origin[k]);
       }
-      FitOrientedBox(range_begin[kids[j]], range_end[kids[j]], &fill, j);
+      fits.push_back({pd.node4, j, range_begin[kids[j]], range_end[kids[j]]});
       if (c.count > 0) {
         fill.child[j] = c.first;
         fill.count[j] = c.count;
@@ -506,6 +554,10 @@ void TriangleBvh::Impl::Build() {
     }
     nodes[pd.node4] = fill;
   }
+  ParallelFor(static_cast<std::int64_t>(fits.size()), [&](std::int64_t b0, std::int64_t e0) {
+    for (std::int64_t k = b0; k < e0; ++k)
+      FitOrientedBox(fits[k].begin, fits[k].end, &nodes[fits[k].node4], fits[k].slot);
+  }, 64);
 }
 
 void TriangleBvh::Impl::FitOrientedBox(int begin, int end, Node4* nd, int j) const {

@@ -168,6 +168,31 @@ TEST(TriangleBvh, SameResultAtOneAndTwoThreads) {
   EXPECT_EQ(f1, f2);
 }
 
+// Meshes above 4096 faces build their subtrees in parallel: the tree (and so
+// every answer, ties included) is the same whether it was built by one thread
+// or two, and exact.
+TEST(TriangleBvh, BuiltByOneOrTwoThreadsGivesTheSameAnswers) {
+  const Mesh m = Torus(1.0, 0.3, 200, 100);  // 40 000 faces
+  const MatrixX3d Q = RandomPoints(400, -1.6, 1.6, 11);
+  VectorXd d1, d2;
+  MatrixX3d p1, p2;
+  Eigen::VectorXi f1, f2;
+  {
+    ThreadLimit one(1);
+    const TriangleBvh bvh(m);
+    bvh.ClosestPoints(Q, &d1, &p1, &f1);
+  }
+  {
+    ThreadLimit two(2);
+    const TriangleBvh bvh(m);
+    bvh.ClosestPoints(Q, &d2, &p2, &f2);
+  }
+  EXPECT_EQ(d1, d2);
+  EXPECT_EQ(p1, p2);
+  EXPECT_EQ(f1, f2);
+  CheckAgainstBruteForce(m, Q.topRows(150));
+}
+
 TEST(TriangleBvh, FarFromOriginAndTinyScale) {
   // Float bounds are relative to the mesh's centre: a small mesh far from the
   // origin, or a very small one, must still give exact answers.
