@@ -263,53 +263,56 @@ FastWindingNumber::FastWindingNumber(const Mesh& mesh, const Options& options)
       }
     }
   }
-  for (std::size_t k = 0; k < nodes.size(); ++k) {
-    FwnNode& nd = nodes[k];
-    const auto [b, e] = range[k];
-    double asum = 0.0;
-    Vec3 p = Vec3::Zero(), nsum = Vec3::Zero();
-    for (int i = b; i < e; ++i) {
-      const int f = order[i];
-      asum += area[f];
-      p += area[f] * centroid[f];
-      nsum += an[f];
+  // Each node from its own range: in parallel, the same sums at any thread count.
+  ParallelFor(static_cast<std::int64_t>(nodes.size()), [&](std::int64_t k0, std::int64_t k1) {
+    for (std::int64_t k = k0; k < k1; ++k) {
+      FwnNode& nd = nodes[k];
+      const auto [b, e] = range[k];
+      double asum = 0.0;
+      Vec3 p = Vec3::Zero(), nsum = Vec3::Zero();
+      for (int i = b; i < e; ++i) {
+        const int f = order[i];
+        asum += area[f];
+        p += area[f] * centroid[f];
+        nsum += an[f];
+      }
+      if (asum > 0.0) {
+        p /= asum;
+      } else {
+        p = Vec3::Zero();
+        for (int i = b; i < e; ++i) p += centroid[order[i]];
+        p /= (e - b);
+      }
+      Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+      Eigen::Matrix3d cm[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
+      double r2 = 0.0;
+      for (int i = b; i < e; ++i) {
+        const int f = order[i];
+        m += (centroid[f] - p) * an[f].transpose();
+        // Second moment of the triangle about p: integral of d d^T over the
+        // triangle = A / 12 (sum_v v v^T + s s^T), v the corners - p, s their sum.
+        Vec3 v[3];
+        for (int c = 0; c < 3; ++c) v[c] = mesh.V.row(mesh.F(f, c)).transpose() - p;
+        const Vec3 sv = v[0] + v[1] + v[2];
+        const Eigen::Matrix3d S =
+            (v[0] * v[0].transpose() + v[1] * v[1].transpose() + v[2] * v[2].transpose() + sv * sv.transpose()) /
+            12.0;
+        for (int c = 0; c < 3; ++c) cm[c] += an[f][c] * S;
+        for (int c = 0; c < 3; ++c) r2 = std::max(r2, v[c].squaredNorm());
+      }
+      for (int c = 0; c < 3; ++c) nd.centre[c] = p[c], nd.n[c] = nsum[c];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) nd.m[3 * i + j] = m(i, j);
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Matrix3d& S = cm[i];
+        double* ci = nd.c + 6 * i;
+        ci[0] = S(0, 0), ci[1] = S(0, 1), ci[2] = S(0, 2), ci[3] = S(1, 1), ci[4] = S(1, 2), ci[5] = S(2, 2);
+        nd.cz[i] = S.trace();
+      }
+      for (int k = 0; k < 3; ++k) nd.cw[k] = cm[0](0, k) + cm[1](1, k) + cm[2](2, k);
+      nd.radius = std::sqrt(r2);
     }
-    if (asum > 0.0) {
-      p /= asum;
-    } else {
-      p = Vec3::Zero();
-      for (int i = b; i < e; ++i) p += centroid[order[i]];
-      p /= (e - b);
-    }
-    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
-    Eigen::Matrix3d cm[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
-    double r2 = 0.0;
-    for (int i = b; i < e; ++i) {
-      const int f = order[i];
-      m += (centroid[f] - p) * an[f].transpose();
-      // Second moment of the triangle about p: integral of d d^T over the
-      // triangle = A / 12 (sum_v v v^T + s s^T), v the corners - p, s their sum.
-      Vec3 v[3];
-      for (int c = 0; c < 3; ++c) v[c] = mesh.V.row(mesh.F(f, c)).transpose() - p;
-      const Vec3 sv = v[0] + v[1] + v[2];
-      const Eigen::Matrix3d S =
-          (v[0] * v[0].transpose() + v[1] * v[1].transpose() + v[2] * v[2].transpose() + sv * sv.transpose()) /
-          12.0;
-      for (int c = 0; c < 3; ++c) cm[c] += an[f][c] * S;
-      for (int c = 0; c < 3; ++c) r2 = std::max(r2, v[c].squaredNorm());
-    }
-    for (int c = 0; c < 3; ++c) nd.centre[c] = p[c], nd.n[c] = nsum[c];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) nd.m[3 * i + j] = m(i, j);
-    for (int i = 0; i < 3; ++i) {
-      const Eigen::Matrix3d& S = cm[i];
-      double* ci = nd.c + 6 * i;
-      ci[0] = S(0, 0), ci[1] = S(0, 1), ci[2] = S(0, 2), ci[3] = S(1, 1), ci[4] = S(1, 2), ci[5] = S(2, 2);
-      nd.cz[i] = S.trace();
-    }
-    for (int k = 0; k < 3; ++k) nd.cw[k] = cm[0](0, k) + cm[1](1, k) + cm[2](2, k);
-    nd.radius = std::sqrt(r2);
-  }
+  }, 64);
 }
 
 FastWindingNumber::~FastWindingNumber() = default;
