@@ -215,6 +215,7 @@ struct TriangleBvh::Impl {
   double origin[3] = {0, 0, 0};
   double coord_scale = 0.0;         // max |coordinate - origin| over the mesh
   int max_depth = 0;                // of the 4-wide tree (sizes the traversal stack)
+  bool oriented = true;             // false: the oriented boxes are the axis-aligned ones
 
   void Build();
   // Oriented box of triangles [begin, end) into slot j of `node`.
@@ -554,6 +555,19 @@ void TriangleBvh::Impl::Build() {
     }
     nodes[pd.node4] = fill;
   }
+  if (!oriented) {
+    // The identity frame with the axis-aligned extents: the oriented bound
+    // equals the axis-aligned one.
+    for (const Fit& f : fits) {
+      Node4& nd = nodes[f.node4];
+      for (int k = 0; k < 3; ++k) {
+        for (int i = 0; i < 3; ++i) nd.rot[3 * k + i][f.slot] = k == i ? 1.0f : 0.0f;
+        nd.olo[k][f.slot] = nd.lo[k][f.slot];
+        nd.ohi[k][f.slot] = nd.hi[k][f.slot];
+      }
+    }
+    return;
+  }
   ParallelFor(static_cast<std::int64_t>(fits.size()), [&](std::int64_t b0, std::int64_t e0) {
     for (std::int64_t k = b0; k < e0; ++k)
       FitOrientedBox(fits[k].begin, fits[k].end, &nodes[fits[k].node4], fits[k].slot);
@@ -689,9 +703,12 @@ TriangleBvh::Hit TriangleBvh::Impl::QueryWith(const double* q, double max_sq, En
   return hit;
 }
 
-TriangleBvh::TriangleBvh(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
+TriangleBvh::TriangleBvh(const Mesh& mesh) : TriangleBvh(mesh, true) {}
+
+TriangleBvh::TriangleBvh(const Mesh& mesh, bool oriented_boxes) : impl_(std::make_unique<Impl>()) {
   CheckMeshIndices(mesh, "TriangleBvh", /*finite=*/true);
   impl_->mesh = mesh;
+  impl_->oriented = oriented_boxes;
   impl_->Build();
 }
 TriangleBvh::~TriangleBvh() = default;

@@ -191,6 +191,14 @@ TEST(TriangleBvh, BuiltByOneOrTwoThreadsGivesTheSameAnswers) {
   EXPECT_EQ(p1, p2);
   EXPECT_EQ(f1, f2);
   CheckAgainstBruteForce(m, Q.topRows(150));
+  // Axis-aligned boxes only: a different tree, the same answers.
+  VectorXd d3;
+  MatrixX3d p3;
+  Eigen::VectorXi f3;
+  TriangleBvh(m, /*oriented_boxes=*/false).ClosestPoints(Q, &d3, &p3, &f3);
+  EXPECT_EQ(d1, d3);
+  EXPECT_EQ(p1, p3);
+  EXPECT_EQ(f1, f3);
 }
 
 TEST(TriangleBvh, FarFromOriginAndTinyScale) {
