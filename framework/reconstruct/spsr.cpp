@@ -13,7 +13,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <deque>
 #include <limits>
 #include <string>
 #include <vector>
@@ -212,7 +211,11 @@ class Solver {
   void Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<std::vector<double>>& b);
   Vec3 ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z) const;
   int SolveLevel(Level& L, const std::vector<double>& b, double beta, int max_iters, double tol);
-  double Value(int level, Key k);
+  double Value(int level, Key k) { return ValueWith(level, k, memo_map_, memo_val_); }
+  // χ at level-`level` grid node k with the memo given (values of nodes that
+  // are not unknowns, per level): a pure function of the solution, so any
+  // memo (the solver's, or a thread's own) gives the same bits.
+  double ValueWith(int level, Key k, std::vector<KeyMap>& memo_map, std::vector<std::vector<double>>& memo_val) const;
   int extract_level_ = 0;
   int islands_ = 0;
   // χ_{<d} at level-d grid node (x, y, z): the coarser levels' solution.
@@ -232,6 +235,7 @@ class Solver {
   std::vector<KeyMap> memo_map_;
   std::vector<std::vector<double>> memo_val_;
   Level& At(int d) { return lv_[d - F_]; }
+  const Level& At(int d) const { return lv_[d - F_]; }
 };
 
 void Solver::Normalise(const PointCloud& pc) {
@@ -669,13 +673,14 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
 
 // χ at node k of `level` (any grid node: unknowns read U, others are
 // prolonged from the coarser level, memoised).
-double Solver::Value(int level, Key k) {
-  Level& L = At(level);
+double Solver::ValueWith(int level, Key k, std::vector<KeyMap>& memo_map,
+                         std::vector<std::vector<double>>& memo_val) const {
+  const Level& L = At(level);
   const int id = L.node_map.Find(k);
   if (id >= 0) return L.U[id];
   if (level == F_) return 0.0;  // cannot happen: level F is complete
-  KeyMap& mm = memo_map_[level - F_];
-  std::vector<double>& mv = memo_val_[level - F_];
+  KeyMap& mm = memo_map[level - F_];
+  std::vector<double>& mv = memo_val[level - F_];
   const int m = mm.Find(k);
   if (m >= 0) return mv[m];
   int cx[2], cy[2], cz[2];
@@ -684,7 +689,8 @@ double Solver::Value(int level, Key k) {
   double v = 0;
   for (int c = 0; c < nz; ++c)
     for (int b = 0; b < ny; ++b)
-      for (int a = 0; a < nx; ++a) v += wx[a] * wy[b] * wz[c] * Value(level - 1, Pack(cx[a], cy[b], cz[c]));
+      for (int a = 0; a < nx; ++a)
+        v += wx[a] * wy[b] * wz[c] * ValueWith(level - 1, Pack(cx[a], cy[b], cz[c]), memo_map, memo_val);
   mm.Insert(k, static_cast<int>(mv.size()));
   mv.push_back(v);
   return v;
@@ -816,11 +822,42 @@ Mesh Solver::Extract(double iso) {
   std::sort(seeds.begin(), seeds.end());
   seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
   KeyMap visited;
-  std::deque<Key> queue;
-  for (Key s : seeds) {
-    visited.Insert(s, 0);
-    queue.push_back(s);
-  }
+  for (Key s : seeds) visited.Insert(s, 0);
+  // The raw values a round of cells needs (their corners and, for the island
+  // rule, the corners' face neighbours), computed in parallel before the
+  // round, each block with its own memo (the same bits as the serial memo).
+  auto prefetch = [&](const std::vector<Key>& cells) {
+    std::vector<Key> need;
+    auto want = [&](int x, int y, int z) {
+      if (x < 0 || y < 0 || z < 0 || x > res || y > res || z > res) return;
+      const Key k = Pack(x, y, z);
+      if (rmap.Find(k) < 0) need.push_back(k);
+    };
+    for (Key cell : cells) {
+      const int x = KX(cell), y = KY(cell), z = KZ(cell);
+      for (int q = 0; q < 8; ++q) {
+        const int a = x + (q & 1), b = y + ((q >> 1) & 1), c = z + ((q >> 2) & 1);
+        want(a, b, c);
+        if (o_.remove_node_islands) {
+          want(a + 1, b, c), want(a - 1, b, c), want(a, b + 1, c);
+          want(a, b - 1, c), want(a, b, c + 1), want(a, b, c - 1);
+        }
+      }
+    }
+    std::sort(need.begin(), need.end());
+    need.erase(std::unique(need.begin(), need.end()), need.end());
+    std::vector<double> val(need.size());
+    ParallelFor(static_cast<std::int64_t>(need.size()), [&](std::int64_t b0, std::int64_t e0) {
+      std::vector<KeyMap> mm(lv_.size());
+      std::vector<std::vector<double>> mv(lv_.size());
+      for (std::int64_t i = b0; i < e0; ++i)
+        val[i] = iso - ValueWith(Lmax_, Pack(KX(need[i]) << up, KY(need[i]) << up, KZ(need[i]) << up), mm, mv);
+    }, 512);
+    for (std::size_t i = 0; i < need.size(); ++i) {
+      rmap.Insert(need[i], static_cast<int>(rval.size()));
+      rval.push_back(val[i]);
+    }
+  };
   KeyMap emap[3];
   std::vector<Vec3> verts;
   std::vector<std::array<int, 3>> tris;
@@ -839,43 +876,49 @@ Mesh Solver::Extract(double iso) {
     verts.push_back(pos);
     return static_cast<int>(verts.size()) - 1;
   };
-  while (!queue.empty()) {
-    const Key cell = queue.front();
-    queue.pop_front();
-    const int x = KX(cell), y = KY(cell), z = KZ(cell);
-    double cg[8];
-    int config = 0;
-    for (int q = 0; q < 8; ++q) {
-      cg[q] = G(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1));
-      if (cg[q] < 0) config |= 1 << q;
-    }
-    if (config == 0 || config == 255) continue;
-    for (const auto& tri : detail::MarchingCubesCase(config)) {
-      std::array<int, 3> f;
-      for (int k = 0; k < 3; ++k) {
-        const int e = tri[k];
-        const int c0 = detail::MarchingCubesEdgeCorner(e);
-        f[k] = vertex(x + (c0 & 1), y + ((c0 >> 1) & 1), z + ((c0 >> 2) & 1), e / 4);
+  // Breadth-first, a round at a time: the cells of a round in the order a
+  // first-in-first-out queue would give them, so the mesh is the same.
+  std::vector<Key> round = std::move(seeds), next;
+  while (!round.empty()) {
+    prefetch(round);
+    next.clear();
+    for (const Key cell : round) {
+      const int x = KX(cell), y = KY(cell), z = KZ(cell);
+      double cg[8];
+      int config = 0;
+      for (int q = 0; q < 8; ++q) {
+        cg[q] = G(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1));
+        if (cg[q] < 0) config |= 1 << q;
       }
-      tris.push_back(f);
-    }
-    // Faces with both signs lead to the neighbour across them.
-    for (int a = 0; a < 3; ++a)
-      for (int side = 0; side < 2; ++side) {
-        bool any_in = false, any_out = false;
-        for (int q = 0; q < 8; ++q) {
-          if (((q >> a) & 1) != side) continue;
-          (cg[q] < 0 ? any_in : any_out) = true;
+      if (config == 0 || config == 255) continue;
+      for (const auto& tri : detail::MarchingCubesCase(config)) {
+        std::array<int, 3> f;
+        for (int k = 0; k < 3; ++k) {
+          const int e = tri[k];
+          const int c0 = detail::MarchingCubesEdgeCorner(e);
+          f[k] = vertex(x + (c0 & 1), y + ((c0 >> 1) & 1), z + ((c0 >> 2) & 1), e / 4);
         }
-        if (!(any_in && any_out)) continue;
-        int nc[3] = {x, y, z};
-        nc[a] += side ? 1 : -1;
-        if (nc[a] < 0 || nc[a] >= res) continue;
-        const Key nk = Pack(nc[0], nc[1], nc[2]);
-        if (visited.Find(nk) >= 0) continue;
-        visited.Insert(nk, 0);
-        queue.push_back(nk);
+        tris.push_back(f);
       }
+      // Faces with both signs lead to the neighbour across them.
+      for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+          bool any_in = false, any_out = false;
+          for (int q = 0; q < 8; ++q) {
+            if (((q >> a) & 1) != side) continue;
+            (cg[q] < 0 ? any_in : any_out) = true;
+          }
+          if (!(any_in && any_out)) continue;
+          int nc[3] = {x, y, z};
+          nc[a] += side ? 1 : -1;
+          if (nc[a] < 0 || nc[a] >= res) continue;
+          const Key nk = Pack(nc[0], nc[1], nc[2]);
+          if (visited.Find(nk) >= 0) continue;
+          visited.Insert(nk, 0);
+          next.push_back(nk);
+        }
+    }
+    round.swap(next);
   }
   Mesh m;
   m.V.resize(static_cast<Eigen::Index>(verts.size()), 3);

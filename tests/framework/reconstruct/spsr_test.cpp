@@ -2,6 +2,7 @@
 // closed, manifold, outward, the right topology and size; deterministic;
 // warm start converges to the same surface in fewer steps; bad input refused.
 #include "framework/reconstruct/spsr.h"
+#include "framework/util/parallel.h"
 
 #include "framework/error.h"
 #include "framework/geometry/builtin_shapes.h"
@@ -133,6 +134,25 @@ TEST(Spsr, DeterministicAndWarmStartConverges) {
   // Same surface to well below a cell (cube 3.2 x 0.99 / 2^8 ~ 0.012).
   EXPECT_NEAR(Volume(mw), Volume(mc), 0.01 * Volume(mc));
   EXPECT_EQ(ComputeTopology(mw).genus, 1);
+}
+
+// Every parallel part (constraints, neighbour tables, the CG, the extraction's
+// value rounds) sums each entry on its own: one thread and two give the same mesh.
+TEST(Spsr, SameMeshAtOneAndTwoThreads) {
+  const PointCloud pc = TorusPoints(20000, 7);
+  const SpsrOptions o;
+  Mesh one, two;
+  {
+    ThreadLimit limit(1);
+    one = ReconstructSpsr(pc, o, Context(1));
+  }
+  {
+    ThreadLimit limit(2);
+    two = ReconstructSpsr(pc, o, Context(1));
+  }
+  ASSERT_GT(one.NumFaces(), 1000);
+  EXPECT_EQ(one.V, two.V);
+  EXPECT_EQ(one.F, two.F);
 }
 
 TEST(Spsr, StrayPointsInsideMakeNoVoids) {
