@@ -8,9 +8,12 @@
 #include "framework/geometry/marching_cubes.h"
 #include "framework/util/parallel.h"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -194,6 +197,107 @@ inline int Parents1D(int a, int pc[2], double pw[2]) {
   pc[1] = (a >> 1) + 1;
   pw[0] = pw[1] = 0.5;
   return 2;
+}
+
+// A complete grid of level c (nodes (2^c + 1)^3, x fastest) for the base
+// level's multigrid: its operator is the Galerkin one, P^T A P of the level
+// above, which for nested tents is the same FEM assembled at this level (the
+// stiffness of its own tents, the screening of the base level's samples
+// weighted by its own trilinear weights and the base level's beta), stored
+// as 27 coefficients per node.
+struct CoarseGrid {
+  int res = 0;
+  std::vector<double> coef;  // 27 per node
+  int N() const { return (res + 1) * (res + 1) * (res + 1); }
+  int Idx(int x, int y, int z) const { return x + (res + 1) * (y + (res + 1) * z); }
+  void Build(int level, const std::vector<Vec3>& pts, const std::vector<int>& screened, double beta) {
+    res = 1 << level;
+    const Tent1D t{1.0 / res, res};
+    coef.assign(static_cast<std::size_t>(N()) * 27, 0.0);
+    for (int z = 0; z <= res; ++z)
+      for (int y = 0; y <= res; ++y)
+        for (int x = 0; x <= res; ++x) {
+          double* c = &coef[static_cast<std::size_t>(Idx(x, y, z)) * 27];
+          for (int o = 0; o < 27; ++o) {
+            const int a = x + Ox(o), b = y + Oy(o), e = z + Oz(o);
+            if (a < 0 || b < 0 || e < 0 || a > res || b > res || e > res) continue;
+            c[o] = t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) + t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
+                   t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o));
+          }
+        }
+    if (beta <= 0) return;
+    for (int s : screened) {
+      int c[3];
+      double w[8];
+      CellOf(pts[s], res, c, w);
+      for (int q1 = 0; q1 < 8; ++q1) {
+        const int i = Idx(c[0] + (q1 & 1), c[1] + ((q1 >> 1) & 1), c[2] + ((q1 >> 2) & 1));
+        for (int q2 = 0; q2 < 8; ++q2) {
+          const int o = ((q2 & 1) - (q1 & 1) + 1) + 3 * (((q2 >> 1) & 1) - ((q1 >> 1) & 1) + 1) +
+                        9 * (((q2 >> 2) & 1) - ((q1 >> 2) & 1) + 1);
+          coef[static_cast<std::size_t>(i) * 27 + o] += beta * w[q1] * w[q2];
+        }
+      }
+    }
+  }
+  void Apply(const std::vector<double>& v, std::vector<double>& out) const {
+    out.assign(N(), 0.0);
+    const int r1 = res + 1;
+    for (int z = 0; z <= res; ++z)
+      for (int y = 0; y <= res; ++y)
+        for (int x = 0; x <= res; ++x) {
+          const int i = Idx(x, y, z);
+          const double* c = &coef[static_cast<std::size_t>(i) * 27];
+          double acc = 0;
+          for (int o = 0; o < 27; ++o)
+            if (c[o] != 0) acc += c[o] * v[i + Ox(o) + r1 * (Oy(o) + r1 * Oz(o))];
+          out[i] = acc;
+        }
+  }
+  double Diag(int i) const { return coef[static_cast<std::size_t>(i) * 27 + 13]; }
+};
+
+// Restriction (P^T, the transpose of trilinear prolongation) from a complete
+// grid of resolution 2r to one of resolution r, and prolongation back.
+inline void Restrict(int r, const std::vector<double>& fine, std::vector<double>& coarse) {
+  const int f1 = 2 * r + 1, c1 = r + 1;
+  coarse.assign(static_cast<std::size_t>(c1) * c1 * c1, 0.0);
+  static const double w1[3] = {0.5, 1.0, 0.5};
+  for (int z = 0; z <= r; ++z)
+    for (int y = 0; y <= r; ++y)
+      for (int x = 0; x <= r; ++x) {
+        double acc = 0;
+        for (int dz = -1; dz <= 1; ++dz) {
+          const int Z = 2 * z + dz;
+          if (Z < 0 || Z > 2 * r) continue;
+          for (int dy = -1; dy <= 1; ++dy) {
+            const int Y = 2 * y + dy;
+            if (Y < 0 || Y > 2 * r) continue;
+            for (int dx = -1; dx <= 1; ++dx) {
+              const int X = 2 * x + dx;
+              if (X < 0 || X > 2 * r) continue;
+              acc += w1[dx + 1] * w1[dy + 1] * w1[dz + 1] * fine[X + f1 * (Y + f1 * Z)];
+            }
+          }
+        }
+        coarse[x + c1 * (y + c1 * z)] = acc;
+      }
+}
+
+inline void ProlongAdd(int r, const std::vector<double>& coarse, std::vector<double>& fine) {
+  const int f1 = 2 * r + 1, c1 = r + 1;
+  for (int Z = 0; Z <= 2 * r; ++Z)
+    for (int Y = 0; Y <= 2 * r; ++Y)
+      for (int X = 0; X <= 2 * r; ++X) {
+        int cx[2], cy[2], cz[2];
+        double wx[2], wy[2], wz[2];
+        const int nx = Parents1D(X, cx, wx), ny = Parents1D(Y, cy, wy), nz = Parents1D(Z, cz, wz);
+        double v = 0;
+        for (int c = 0; c < nz; ++c)
+          for (int b = 0; b < ny; ++b)
+            for (int a = 0; a < nx; ++a) v += wx[a] * wy[b] * wz[c] * coarse[cx[a] + c1 * (cy[b] + c1 * cz[c])];
+        fine[X + f1 * (Y + f1 * Z)] += v;
+      }
 }
 
 class Solver {
@@ -570,6 +674,9 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
     return t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) + t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
            t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o));
   };
+  const bool complete = nn == std::int64_t(L.res + 1) * (L.res + 1) * (L.res + 1);  // nodes in x-fastest order
+  std::array<std::ptrdiff_t, 27> off{};
+  for (int o = 0; o < 27; ++o) off[o] = Ox(o) + std::ptrdiff_t(L.res + 1) * (Oy(o) + std::ptrdiff_t(L.res + 1) * Oz(o));
   // Screening as a gather: per node, the (sample slot, weight) pairs touching it.
   const std::int64_t ns = static_cast<std::int64_t>(L.s_idx.size());
   std::vector<int> start(nn + 1, 0), slot(static_cast<std::size_t>(ns) * 8);
@@ -609,7 +716,11 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       for (std::int64_t i = b; i < e; ++i) {
         double acc = 0;
         const int* nb = &L.nbr[i * 27];
-        if (!L.on_face[i]) {
+        if (complete && !L.on_face[i]) {
+          // A complete level: every neighbour exists at a fixed offset.
+          const double* vi = v.data() + i;
+          for (int o = 0; o < 27; ++o) acc += kin[o] * vi[off[o]];
+        } else if (!L.on_face[i]) {
           for (int o = 0; o < 27; ++o)
             if (nb[o] >= 0) acc += kin[o] * v[nb[o]];
         } else {
@@ -639,12 +750,83 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
     for (double v : part) s += v;
     return s;
   };
+  // The complete base level: conjugate gradients preconditioned by a
+  // symmetric multigrid V-cycle over the complete grids below it (damped
+  // Jacobi, 2 sweeps before and after, a dense Cholesky solve at level 2):
+  // the screening is weak where samples are few, the system nearly the
+  // Neumann Laplacian's, on which Jacobi-CG needed 100-130 steps at any n.
+  // The finer levels are local and keep Jacobi.
+  const bool mg = L.d == F_ && F_ >= 3 && complete;
+  std::vector<CoarseGrid> grids;  // levels 2 .. F-1
+  Eigen::LLT<Eigen::MatrixXd> coarsest;
+  if (mg) {
+    for (int c = 2; c < F_; ++c) {
+      grids.emplace_back();
+      grids.back().Build(c, p_, L.s_idx, beta);
+    }
+    const CoarseGrid& g = grids.front();
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(g.N(), g.N());
+    const int r1 = g.res + 1;
+    for (int i = 0; i < g.N(); ++i)
+      for (int o = 0; o < 27; ++o)
+        if (g.coef[static_cast<std::size_t>(i) * 27 + o] != 0)
+          A(i, i + Ox(o) + r1 * (Oy(o) + r1 * Oz(o))) += g.coef[static_cast<std::size_t>(i) * 27 + o];
+    // Unscreened (beta 0) the Neumann operator is singular: a tiny shift
+    // keeps the preconditioner definite.
+    A.diagonal().array() += 1e-10 * A.diagonal().maxCoeff();
+    coarsest.compute(A);
+  }
+  constexpr double kOmega = 0.8;  // Jacobi damping (the Q1 stencil's D^-1 K spans about [0, 1.5])
+  // e = V(r) on coarse grid k (index into grids), r and e dense.
+  std::function<void(std::size_t, const std::vector<double>&, std::vector<double>&)> vcycle =
+      [&](std::size_t k, const std::vector<double>& rr, std::vector<double>& e) {
+        const CoarseGrid& g = grids[k];
+        if (k == 0) {
+          const Eigen::VectorXd sol = coarsest.solve(Eigen::Map<const Eigen::VectorXd>(rr.data(), g.N()));
+          e.assign(sol.data(), sol.data() + g.N());
+          return;
+        }
+        std::vector<double> ae, res(g.N()), rc, ec;
+        e.assign(g.N(), 0.0);
+        for (int i = 0; i < g.N(); ++i) e[i] = kOmega * rr[i] / g.Diag(i);
+        g.Apply(e, ae);
+        for (int i = 0; i < g.N(); ++i) e[i] += kOmega * (rr[i] - ae[i]) / g.Diag(i);
+        g.Apply(e, ae);
+        for (int i = 0; i < g.N(); ++i) res[i] = rr[i] - ae[i];
+        Restrict(grids[k - 1].res, res, rc);
+        vcycle(k - 1, rc, ec);
+        ProlongAdd(grids[k - 1].res, ec, e);
+        for (int sweep = 0; sweep < 2; ++sweep) {
+          g.Apply(e, ae);
+          for (int i = 0; i < g.N(); ++i) e[i] += kOmega * (rr[i] - ae[i]) / g.Diag(i);
+        }
+      };
+  // z = V(r) on the base level itself (its own parallel operator).
+  std::vector<double> ae(nn), res(nn), rc, ec;
+  auto precondition = [&](const std::vector<double>& rr, std::vector<double>& zz) {
+    if (!mg) {
+      for (std::int64_t i = 0; i < nn; ++i) zz[i] = rr[i] / diag[i];
+      return;
+    }
+    for (std::int64_t i = 0; i < nn; ++i) zz[i] = kOmega * rr[i] / diag[i];
+    apply(zz, ae);
+    for (std::int64_t i = 0; i < nn; ++i) zz[i] += kOmega * (rr[i] - ae[i]) / diag[i];
+    apply(zz, ae);
+    for (std::int64_t i = 0; i < nn; ++i) res[i] = rr[i] - ae[i];
+    Restrict(grids.back().res, res, rc);
+    vcycle(grids.size() - 1, rc, ec);
+    ProlongAdd(grids.back().res, ec, zz);
+    for (int sweep = 0; sweep < 2; ++sweep) {
+      apply(zz, ae);
+      for (std::int64_t i = 0; i < nn; ++i) zz[i] += kOmega * (rr[i] - ae[i]) / diag[i];
+    }
+  };
   std::vector<double> r(nn), z(nn), p(nn), q(nn);
   apply(L.x, q);
   for (std::int64_t i = 0; i < nn; ++i) r[i] = rhs[i] - q[i];
   const double bnorm = std::sqrt(dot(rhs, rhs));
   if (bnorm == 0) return 0;
-  for (std::int64_t i = 0; i < nn; ++i) z[i] = r[i] / diag[i];
+  precondition(r, z);
   p = z;
   double rz = dot(r, z);
   int it = 0;
@@ -658,9 +840,9 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       for (std::int64_t i = b; i < e; ++i) {
         L.x[i] += alpha * p[i];
         r[i] -= alpha * q[i];
-        z[i] = r[i] / diag[i];
       }
     }, 8192);
+    precondition(r, z);
     const double rz2 = dot(r, z);
     const double beta_cg = rz2 / rz;
     rz = rz2;
