@@ -12,6 +12,10 @@
 //
 //   rfta_bench [all | torus20 | torus40 | bunny20]
 //   rfta_bench scaling [SHAPE] [NMAX]
+//   rfta_bench figure14 [NMAX]
+// "figure14" is the paper's runtime figure itself (bunny_fixed, k_max 10,
+// n_max 3, the paper's n = 5 ... 150 up to NMAX), each n beside the paper's
+// time and the ratio ours / paper, with peak memory (see Figure14).
 // "scaling" is the paper's Fig. 14: RFTA (default preset) on SHAPE (torus,
 // or a bench mesh name) at n = 10 ... NMAX (default 100), printing per-stage
 // wall time, peak resident memory of each run (reset before it), the number
@@ -40,6 +44,8 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 using namespace arcs;
 
@@ -223,10 +229,59 @@ int Scaling(const Registry& registry, const std::string& shape, int nmax) {
 
 }  // namespace
 
+// The paper's runtime figure (Fig. 14): bunny_fixed, fine_tune_iters 10,
+// max_points_per_sphere 3, n = 5 ... NMAX of the paper's n list, each beside
+// the paper's RFTA time and Chamfer (../shared/reference/rfta_paper_runtime.csv,
+// read back from the figure; the authors' Mac with a GPU rasterizer) and the
+// ratio ours / paper (issue 10's target: <= 0.1 at every n), with the peak
+// resident memory of each run.
+int Figure14(const Registry& registry, int nmax) {
+  const std::string csv = std::string(ARCS_SHARED_DIR) + "/reference/rfta_paper_runtime.csv";
+  std::FILE* f = std::fopen(csv.c_str(), "r");
+  if (!f) {
+    std::printf("figure14 skipped: %s not found\n", csv.c_str());
+    return 0;
+  }
+  std::vector<std::pair<double, std::pair<double, double>>> paper;  // n^3 -> (seconds, chamfer)
+  char line[512];
+  while (std::fgets(line, sizeof line, f)) {
+    char method[32];
+    double n3, sec, ch;
+    if (std::sscanf(line, "%31[^,],%lf,%lf,%lf", method, &n3, &sec, &ch) == 4 && std::string(method) == "RFTA")
+      paper.push_back({n3, {sec, ch}});
+  }
+  std::fclose(f);
+  Mesh mesh = LoadShape("bunny_fixed");
+  Normalize(&mesh, NormalizeOptions{});
+  std::printf("RFTA runtime, the paper's Fig. 14 (bunny_fixed, k_max 10, n_max 3), %d threads\n", MaxThreads());
+  std::printf("%5s %9s | %8s %8s %9s %8s | %8s %9s | %9s %7s | %9s %9s\n", "n", "n^3", "sampler", "project",
+              "finetune", "final", "total", "peak_MB", "paper_s", "ratio", "chamfer", "paper_ch");
+  for (const auto& [n3, ref] : paper) {
+    const int n = static_cast<int>(std::lround(std::cbrt(n3)));
+    if (n > nmax) break;
+    Context ctx(1);
+    SdfGridOptions go;
+    go.n = n;
+    const SdfSamples samples = SampleSdfGrid(mesh, go, ctx);
+    ResetPeakRss();
+    const auto t0 = std::chrono::steady_clock::now();
+    const Outcome o = RunRfta(registry, samples, 10, 3, ctx);
+    const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double peak_mb = PeakRssBytes() / 1048576.0;
+    const double chamfer = ChamferPaper(o.mesh, mesh, 1000000, 1);
+    std::printf("%5d %9.0f | %8.2f %8.2f %9.2f %8.2f | %8.2f %9.0f | %9.2f %7.3f | %9.5f %9.5f\n", n, n3, o.sampler_s,
+                o.projector_s, o.fine_tune_s, o.final_s, total, peak_mb, ref.first, total / ref.first, chamfer,
+                ref.second);
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
   const std::string which = argc > 1 ? argv[1] : "all";
   Registry registry;
   RegisterBuiltinStages(registry);
+  if (which == "figure14") return Figure14(registry, argc > 2 ? std::atoi(argv[2]) : 150);
   if (which == "scaling")
     return Scaling(registry, argc > 2 ? argv[2] : "torus", argc > 3 ? std::atoi(argv[3]) : 100);
   const BenchCase cases[] = {
