@@ -199,6 +199,20 @@ inline int Parents1D(int a, int pc[2], double pw[2]) {
   return 2;
 }
 
+// Σ w · at(cx, cy, cz) over the coarse parents of fine node (x, y, z) (the
+// trilinear prolongation weights of Parents1D), z outermost, x innermost.
+template <class T, class Fn>
+T ParentSum(int x, int y, int z, Fn&& at) {
+  int cx[2], cy[2], cz[2];
+  double wx[2], wy[2], wz[2];
+  const int nx = Parents1D(x, cx, wx), ny = Parents1D(y, cy, wy), nz = Parents1D(z, cz, wz);
+  T v{};
+  for (int c = 0; c < nz; ++c)
+    for (int b = 0; b < ny; ++b)
+      for (int a = 0; a < nx; ++a) v += wx[a] * wy[b] * wz[c] * at(cx[a], cy[b], cz[c]);
+  return v;
+}
+
 // A complete grid of level c (nodes (2^c + 1)^3, x fastest) for the base
 // level's multigrid: its operator is the Galerkin one, P^T A P of the level
 // above, which for nested tents is the same FEM assembled at this level (the
@@ -289,14 +303,8 @@ inline void ProlongAdd(int r, const std::vector<double>& coarse, std::vector<dou
   for (int Z = 0; Z <= 2 * r; ++Z)
     for (int Y = 0; Y <= 2 * r; ++Y)
       for (int X = 0; X <= 2 * r; ++X) {
-        int cx[2], cy[2], cz[2];
-        double wx[2], wy[2], wz[2];
-        const int nx = Parents1D(X, cx, wx), ny = Parents1D(Y, cy, wy), nz = Parents1D(Z, cz, wz);
-        double v = 0;
-        for (int c = 0; c < nz; ++c)
-          for (int b = 0; b < ny; ++b)
-            for (int a = 0; a < nx; ++a) v += wx[a] * wy[b] * wz[c] * coarse[cx[a] + c1 * (cy[b] + c1 * cz[c])];
-        fine[X + f1 * (Y + f1 * Z)] += v;
+        fine[X + f1 * (Y + f1 * Z)] +=
+            ParentSum<double>(X, Y, Z, [&](int a, int b, int c) { return coarse[a + c1 * (b + c1 * c)]; });
       }
 }
 
@@ -840,9 +848,10 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       for (std::int64_t i = b; i < e; ++i) {
         L.x[i] += alpha * p[i];
         r[i] -= alpha * q[i];
+        if (!mg) z[i] = r[i] / diag[i];
       }
     }, 8192);
-    precondition(r, z);
+    if (mg) precondition(r, z);
     const double rz2 = dot(r, z);
     const double beta_cg = rz2 / rz;
     rz = rz2;
@@ -865,28 +874,16 @@ double Solver::ValueWith(int level, Key k, std::vector<KeyMap>& memo_map,
   std::vector<double>& mv = memo_val[level - F_];
   const int m = mm.Find(k);
   if (m >= 0) return mv[m];
-  int cx[2], cy[2], cz[2];
-  double wx[2], wy[2], wz[2];
-  const int nx = Parents1D(KX(k), cx, wx), ny = Parents1D(KY(k), cy, wy), nz = Parents1D(KZ(k), cz, wz);
-  double v = 0;
-  for (int c = 0; c < nz; ++c)
-    for (int b = 0; b < ny; ++b)
-      for (int a = 0; a < nx; ++a)
-        v += wx[a] * wy[b] * wz[c] * ValueWith(level - 1, Pack(cx[a], cy[b], cz[c]), memo_map, memo_val);
+  const double v = ParentSum<double>(KX(k), KY(k), KZ(k), [&](int a, int b, int c) {
+    return ValueWith(level - 1, Pack(a, b, c), memo_map, memo_val);
+  });
   mm.Insert(k, static_cast<int>(mv.size()));
   mv.push_back(v);
   return v;
 }
 
 double Solver::Coarse(int d, int x, int y, int z) {
-  int cx[2], cy[2], cz[2];
-  double wx[2], wy[2], wz[2];
-  const int nx = Parents1D(x, cx, wx), ny = Parents1D(y, cy, wy), nz = Parents1D(z, cz, wz);
-  double v = 0;
-  for (int c = 0; c < nz; ++c)
-    for (int b = 0; b < ny; ++b)
-      for (int a = 0; a < nx; ++a) v += wx[a] * wy[b] * wz[c] * Value(d - 1, Pack(cx[a], cy[b], cz[c]));
-  return v;
+  return ParentSum<double>(x, y, z, [&](int a, int b, int c) { return Value(d - 1, Pack(a, b, c)); });
 }
 
 double Solver::Chi(const Vec3& p) {
