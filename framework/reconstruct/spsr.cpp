@@ -330,8 +330,7 @@ class Solver {
   double ValueWith(int level, Key k, std::vector<KeyMap>& memo_map, std::vector<std::vector<double>>& memo_val) const;
   int extract_level_ = 0;
   int islands_ = 0;
-  // χ_{<d} at level-d grid node (x, y, z): the coarser levels' solution.
-  double Coarse(int d, int x, int y, int z);
+  // χ at p (unit cube), trilinear on the finest level's grid.
   double Chi(const Vec3& p);
   Mesh Extract(double iso);
 
@@ -882,10 +881,6 @@ double Solver::ValueWith(int level, Key k, std::vector<KeyMap>& memo_map,
   return v;
 }
 
-double Solver::Coarse(int d, int x, int y, int z) {
-  return ParentSum<double>(x, y, z, [&](int a, int b, int c) { return Value(d - 1, Pack(a, b, c)); });
-}
-
 double Solver::Chi(const Vec3& p) {
   const int res = 1 << Lmax_;
   int c[3];
@@ -1142,21 +1137,37 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
     std::vector<double> P(L.nodes.size(), 0.0);
     std::vector<double> rhs = b[d - F_];
     if (d > F_) {
-      for (std::size_t i = 0; i < L.nodes.size(); ++i) P[i] = Coarse(d, KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
-      // rhs -= K P (neighbours that are not unknowns are prolonged on the fly).
+      // The coarser solution at this level's nodes, then rhs -= K P
+      // (neighbours that are not unknowns are prolonged on the fly); in
+      // parallel, each block with its own memo of prolonged values (the same
+      // bits as one serial memo).
+      const std::int64_t nn = static_cast<std::int64_t>(L.nodes.size());
+      auto block_coarse = [&](std::vector<KeyMap>& mm, std::vector<std::vector<double>>& mv, int x, int y, int z) {
+        return ParentSum<double>(x, y, z, [&](int a, int bb, int c) { return ValueWith(d - 1, Pack(a, bb, c), mm, mv); });
+      };
+      ParallelFor(nn, [&](std::int64_t b0, std::int64_t e0) {
+        std::vector<KeyMap> mm(lv_.size());
+        std::vector<std::vector<double>> mv(lv_.size());
+        for (std::int64_t i = b0; i < e0; ++i)
+          P[i] = block_coarse(mm, mv, KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
+      }, 4096);
       const Tent1D& t = L.tent;
-      for (std::size_t i = 0; i < L.nodes.size(); ++i) {
-        const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
-        double acc = 0;
-        ForStencil(L, i, [&](int o, int a, int bb, int c, int j) {
-          const double pv = j >= 0 ? P[j] : Coarse(d, a, bb, c);
-          if (pv == 0) return;
-          acc += pv * (t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) +
-                       t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
-                       t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o)));
-        });
-        rhs[i] -= acc;
-      }
+      ParallelFor(nn, [&](std::int64_t b0, std::int64_t e0) {
+        std::vector<KeyMap> mm(lv_.size());
+        std::vector<std::vector<double>> mv(lv_.size());
+        for (std::int64_t i = b0; i < e0; ++i) {
+          const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+          double acc = 0;
+          ForStencil(L, static_cast<std::size_t>(i), [&](int o, int a, int bb, int c, int j) {
+            const double pv = j >= 0 ? P[j] : block_coarse(mm, mv, a, bb, c);
+            if (pv == 0) return;
+            acc += pv * (t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) +
+                         t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
+                         t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o)));
+          });
+          rhs[i] -= acc;
+        }
+      }, 4096);
       if (beta > 0) {
         for (std::size_t s = 0; s < L.s_idx.size(); ++s) {
           double chi = 0;

@@ -181,9 +181,12 @@ bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, 
   };
   thread_local std::vector<Candidate> cands;
 
+  // Most points given are feasible already: the early-exit containment test
+  // settles those without gathering (the same answer as gather()'s).
+  auto check = [&]() { return !tree.AnyContains(*x, -o.tol, self_id, local) || gather(); };
   *x = on_sphere(*x);
   int step = 0;
-  bool feasible = gather();
+  bool feasible = check();
   while (!feasible && step < o.iterations) {
     // Official order: by radius, ascending (ties by id).
     std::sort(found.begin(), found.end(), [&](int a, int b) {
@@ -290,7 +293,7 @@ bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, 
     if (next == *x) break;
     *x = next;
     ++step;
-    feasible = gather();
+    feasible = check();
   }
   if (steps) *steps = step;
   return feasible;

@@ -83,9 +83,21 @@ Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double ste
   }
   axis.normalize();
   double theta = std::min(step / r, full);
+  // The balls that blocked earlier halvings are tested first: a ball that
+  // contains one candidate usually contains the next, half-way back to p,
+  // and then no tree query is needed (the same answers).
+  int blockers[8];
+  int nb = 0;
   for (int h = 0; h <= halvings; ++h) {
     const Vec3 x = c + r * Eigen::AngleAxisd(theta, axis).toRotationMatrix() * u;
-    if (!tree.AnyContains(x, -tol, self, local)) return x;
+    bool blocked = false;
+    for (int b = 0; b < nb && !blocked; ++b) blocked = tree.Contains(blockers[b], x, -tol, self);
+    if (!blocked) {
+      const int k = tree.FindContaining(x, -tol, self, local);
+      if (k < 0) return x;
+      if (nb < 8) blockers[nb++] = k;
+      else blockers[h % 8] = k;
+    }
     theta *= 0.5;
   }
   return jump_when_blocked ? q : p;

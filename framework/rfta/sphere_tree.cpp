@@ -231,15 +231,14 @@ void SphereTree::CollectLocal(const Vec3& lo, const Vec3& hi, double offset, Loc
   }
 }
 
-bool SphereTree::AnyContains(const Vec3& x, double offset, int ignore_id, const LocalSet* local) const {
+int SphereTree::FindContaining(const Vec3& x, double offset, int ignore_id, const LocalSet* local) const {
   if (local && local->Serves(x, offset)) {
     for (int k : local->balls) {
-      const double r = balls_[k].r + offset;
-      if (r > 0.0 && BallDist2(balls_[k], x) < r * r && ids_[k] != ignore_id) return true;
+      if (Contains(k, x, offset, ignore_id)) return k;
     }
-    return false;
+    return -1;
   }
-  if (nodes_.empty()) return false;
+  if (nodes_.empty()) return -1;
   std::int32_t stack[kStack];
   int sp = 0;
   stack[sp++] = 0;
@@ -248,8 +247,7 @@ bool SphereTree::AnyContains(const Vec3& x, double offset, int ignore_id, const 
     if (n.rmax + offset <= 0.0 || LowerBound(n, x, 1.0) >= offset) continue;
     if (n.count > 0) {
       for (std::int32_t k = n.begin; k < n.begin + n.count; ++k) {
-        const double r = balls_[k].r + offset;
-        if (r > 0.0 && BallDist2(balls_[k], x) < r * r && ids_[k] != ignore_id) return true;
+        if (Contains(k, x, offset, ignore_id)) return k;
       }
       continue;
     }
@@ -263,7 +261,7 @@ bool SphereTree::AnyContains(const Vec3& x, double offset, int ignore_id, const 
       stack[sp++] = r;
     }
   }
-  return false;
+  return -1;
 }
 
 void SphereTree::DeepestContaining(const Vec3& x, double offset, int k, int ignore_id, std::vector<int>* out,

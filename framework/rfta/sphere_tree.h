@@ -59,7 +59,20 @@ class SphereTree {
   // `ignore_id` with |x - c| < r + offset? (offset = -tol: "contains x by more
   // than tol", the make-feasible test.) `local` (optional) is used if it
   // serves x.
-  bool AnyContains(const Vec3& x, double offset, int ignore_id, const LocalSet* local = nullptr) const;
+  bool AnyContains(const Vec3& x, double offset, int ignore_id, const LocalSet* local = nullptr) const {
+    return FindContaining(x, offset, ignore_id, local) >= 0;
+  }
+  // The same test, answering with the tree index of a ball that contains x
+  // (the first one met), or -1.
+  int FindContaining(const Vec3& x, double offset, int ignore_id, const LocalSet* local = nullptr) const;
+  // Does ball k (a tree index) other than `ignore_id` contain x, with the
+  // offset? The leaf test of AnyContains, for callers that remember a ball.
+  bool Contains(int k, const Vec3& x, double offset, int ignore_id) const {
+    const double r = balls_[k].r + offset;
+    const Ball& b = balls_[k];
+    const double d2 = (x[0] - b.x) * (x[0] - b.x) + (x[1] - b.y) * (x[1] - b.y) + (x[2] - b.z) * (x[2] - b.z);
+    return r > 0.0 && d2 < r * r && ids_[k] != ignore_id;
+  }
   // The (at most k) balls other than `ignore_id` with |x - c| - r < offset,
   // deepest first (smallest |x - c| - r; ties by id). Appends tree indices to
   // *out (cleared first).

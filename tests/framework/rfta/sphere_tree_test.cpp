@@ -56,6 +56,15 @@ TEST(SphereTree, PointQueriesMatchBruteForce) {
     for (int i = 0; i < 3000; ++i)
       any = any || (b.ids[i] != ignore && Dist(b, i, x) < b.R[i] - tol);
     EXPECT_EQ(tree.AnyContains(x, -tol, ignore), any);
+    // FindContaining names a ball that contains x (by the same test), or -1.
+    const int k = tree.FindContaining(x, -tol, ignore);
+    EXPECT_EQ(k >= 0, any);
+    if (k >= 0) {
+      EXPECT_TRUE(tree.Contains(k, x, -tol, ignore));
+      EXPECT_NE(tree.id(k), ignore);
+      const SphereTree::Ball& bk = tree.ball(k);
+      EXPECT_LT((x - Vec3(bk.x, bk.y, bk.z)).norm(), bk.r - tol + 1e-12);
+    }
     contained += any;
     // DeepestContaining: the k smallest |x - c| - r below +tol, ties by id.
     std::vector<std::pair<double, int>> keys;
