@@ -8,7 +8,10 @@
 // "default" = gpytoolbox defaults (fine_tune_iters 3, max_points_per_sphere 3);
 // "paper" = the paper's many-shapes runs (20 iterations, 30 points per sphere).
 // Prints the wall time of each stage, the total, the paper's Chamfer (10^6
-// samples) and the speed-up against the official wall time.
+// samples) and the speed-up against the official wall time, then where
+// fine-tuning's time went (solves, surface queries, per-sphere updates).
+// RFTA_BENCH_TUNING_EXTRACT_Q=Q: the tuning surfaces' extract_quantile
+// (default 0.2, OfficialRftaTuningPoisson).
 //
 //   rfta_bench [all | torus20 | torus40 | bunny20]
 //   rfta_bench scaling [SHAPE] [NMAX]
@@ -61,6 +64,8 @@ struct BenchCase {
 struct Outcome {
   Mesh mesh;
   double sampler_s = 0, projector_s = 0, fine_tune_s = 0, psr_s = 0, final_s = 0;
+  double query_s = 0, update_s = 0;  // fine-tuning's surface queries and per-sphere updates (library path)
+  std::int64_t points = 0;           // tangency points after the last iteration
 };
 
 bool ViaRegistry() {
@@ -93,13 +98,19 @@ Outcome RunLibrary(const SdfSamples& samples, int iterations, int points_per_sph
   }
   PoissonOptions official;
   if (OfficialSurfaces(&official)) o.poisson = o.tuning_poisson = official;
+  if (const char* q = std::getenv("RFTA_BENCH_TUNING_EXTRACT_Q")) o.tuning_poisson.extract_quantile = std::atof(q);
   RftaResult r = ReachForTheArcs(samples, o, ctx);
   Outcome out;
   out.mesh = std::get<Mesh>(std::move(r.surface));
   out.sampler_s = r.sampler_s;
   out.projector_s = r.projector_s;
   out.fine_tune_s = r.fine_tune_s;
-  for (const auto& it : r.tuning.iterations) out.psr_s += it.reconstruct_s;
+  for (const auto& it : r.tuning.iterations) {
+    out.psr_s += it.reconstruct_s;
+    out.query_s += it.query_s;
+    out.update_s += it.update_s;
+    out.points = it.points;
+  }
   out.final_s = r.final_s;
   return out;
 }
@@ -186,6 +197,9 @@ void Run(const BenchCase& bc, const Registry& registry) {
   std::printf("%-10s %6.2f %8.2f %8.2f %9.2f %8.2f %8.2f | %8.2f %9.0f %7.1fx | %9.5f %9.5f %8d\n", bc.name.c_str(),
               sdf_s, o.sampler_s, o.projector_s, o.fine_tune_s, o.psr_s, o.final_s, total, bc.official_wall_s,
               bc.official_wall_s / total, chamfer, bc.official_chamfer, o.mesh.NumVertices());
+  if (!ViaRegistry())
+    std::printf("%-10s fine-tuning: solves %.2f s, queries %.2f s, updates %.2f s; %lld points at the end\n", "",
+                o.psr_s, o.query_s, o.update_s, static_cast<long long>(o.points));
   std::fflush(stdout);
 }
 

@@ -11,8 +11,9 @@
 
 namespace arcs {
 
-inline StageSpec OfficialPoissonSpec() {
-  const PoissonOptions o = OfficialRftaPoisson();
+// `tuning`: the fine-tuning surfaces' preset (OfficialRftaTuningPoisson).
+inline StageSpec OfficialPoissonSpec(bool tuning = false) {
+  const PoissonOptions o = tuning ? OfficialRftaTuningPoisson() : OfficialRftaPoisson();
   StageSpec s;
   s.stage = "screened_poisson";
   s.params.Set("backend", std::string("arcs"));
@@ -22,6 +23,7 @@ inline StageSpec OfficialPoissonSpec() {
   s.params.Set("point_weight", o.point_weight);
   s.params.Set("open_retries", std::int64_t{o.open_retries});
   s.params.Set("area_normalized", o.area_normalized);
+  if (tuning) s.params.Set("extract_quantile", o.extract_quantile);
   return s;
 }
 
