@@ -11,7 +11,8 @@
 // samples) and the speed-up against the official wall time, then where
 // fine-tuning's time went (solves, surface queries, per-sphere updates).
 // RFTA_BENCH_TUNING_EXTRACT_Q=Q: the tuning surfaces' extract_quantile
-// (default 0.2, OfficialRftaTuningPoisson).
+// (default 0.2, OfficialRftaTuningPoisson); RFTA_BENCH_TUNING_CG_ITERS=K
+// their CG steps per level (default 40).
 //
 //   rfta_bench [all | torus20 | torus40 | bunny20]
 //   rfta_bench scaling [SHAPE] [NMAX]
@@ -99,6 +100,7 @@ Outcome RunLibrary(const SdfSamples& samples, int iterations, int points_per_sph
   PoissonOptions official;
   if (OfficialSurfaces(&official)) o.poisson = o.tuning_poisson = official;
   if (const char* q = std::getenv("RFTA_BENCH_TUNING_EXTRACT_Q")) o.tuning_poisson.extract_quantile = std::atof(q);
+  if (const char* it = std::getenv("RFTA_BENCH_TUNING_CG_ITERS")) o.tuning_poisson.cg_iters = std::atoi(it);
   RftaResult r = ReachForTheArcs(samples, o, ctx);
   Outcome out;
   out.mesh = std::get<Mesh>(std::move(r.surface));
