@@ -923,32 +923,41 @@ Mesh Solver::Extract(double iso) {
     rval.push_back(v);
     return v;
   };
-  auto G = [&](int x, int y, int z) {
-    const Key k = Pack(x, y, z);
-    const int id = gmap.Find(k);
-    if (id >= 0) return gval[id];
-    double v = R(x, y, z);
+  // The value marching cubes sees at node (x, y, z) from the raw values
+  // `raw` gives; *island: the island rule replaced it.
+  auto seen = [&](int x, int y, int z, auto&& raw, bool* island) {
+    double v = raw(x, y, z);
+    *island = false;
     if (o_.remove_node_islands) {
       static const int nb[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-      bool island = true;
+      bool all_other = true;
       double mean = 0;
       int count = 0;
       for (const auto& o : nb) {
         const int a = x + o[0], b = y + o[1], c = z + o[2];
         if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) continue;
-        const double u = R(a, b, c);
+        const double u = raw(a, b, c);
         if ((u < 0) == (v < 0)) {
-          island = false;
+          all_other = false;
           break;
         }
         mean += u;
         ++count;
       }
-      if (island && count == 6) {
+      if (all_other && count == 6) {
         v = mean / count;
-        ++islands_;
+        *island = true;
       }
     }
+    return v;
+  };
+  auto G = [&](int x, int y, int z) {
+    const Key k = Pack(x, y, z);
+    const int id = gmap.Find(k);
+    if (id >= 0) return gval[id];
+    bool island;
+    const double v = seen(x, y, z, R, &island);
+    islands_ += island;
     gmap.Insert(k, static_cast<int>(gval.size()));
     gval.push_back(v);
     return v;
@@ -1030,6 +1039,33 @@ Mesh Solver::Extract(double iso) {
     for (std::size_t i = 0; i < need.size(); ++i) {
       rmap.Insert(need[i], static_cast<int>(rval.size()));
       rval.push_back(val[i]);
+    }
+    // Then the values marching cubes sees at the corners (all the raw values
+    // they read are known now), in parallel, inserted in key order.
+    std::vector<Key> gneed;
+    for (Key cell : cells) {
+      const int x = KX(cell), y = KY(cell), z = KZ(cell);
+      for (int q = 0; q < 8; ++q) {
+        const Key k = Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1));
+        if (gmap.Find(k) < 0) gneed.push_back(k);
+      }
+    }
+    std::sort(gneed.begin(), gneed.end());
+    gneed.erase(std::unique(gneed.begin(), gneed.end()), gneed.end());
+    std::vector<double> gv(gneed.size());
+    std::vector<char> isl(gneed.size());
+    auto known = [&](int x, int y, int z) { return rval[rmap.Find(Pack(x, y, z))]; };
+    ParallelFor(static_cast<std::int64_t>(gneed.size()), [&](std::int64_t b0, std::int64_t e0) {
+      for (std::int64_t i = b0; i < e0; ++i) {
+        bool island;
+        gv[i] = seen(KX(gneed[i]), KY(gneed[i]), KZ(gneed[i]), known, &island);
+        isl[i] = island;
+      }
+    }, 1024);
+    for (std::size_t i = 0; i < gneed.size(); ++i) {
+      islands_ += isl[i];
+      gmap.Insert(gneed[i], static_cast<int>(gval.size()));
+      gval.push_back(gv[i]);
     }
   };
   KeyMap emap[3];
