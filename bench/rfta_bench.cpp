@@ -11,7 +11,7 @@
 // samples) and the speed-up against the official wall time, then where
 // fine-tuning's time went (solves, surface queries, per-sphere updates).
 // RFTA_BENCH_TUNING_EXTRACT_Q=Q: the tuning surfaces' extract_quantile
-// (default 0.2, OfficialRftaTuningPoisson); RFTA_BENCH_TUNING_CG_ITERS=K
+// (default 0.5, as the final mesh); RFTA_BENCH_TUNING_CG_ITERS=K
 // their CG steps per level (default 40).
 //
 //   rfta_bench [all | torus20 | torus40 | bunny20]

@@ -57,12 +57,6 @@ PoissonOptions OfficialRftaPoisson() {
   return o;
 }
 
-PoissonOptions OfficialRftaTuningPoisson() {
-  PoissonOptions o = OfficialRftaPoisson();
-  o.extract_quantile = 0.2;
-  return o;
-}
-
 bool PoissonAvailable() { return poisson_detail::PclAvailable(); }
 bool PoissonOpen3dAvailable() { return poisson_detail::Open3dPoissonAvailable(); }
 

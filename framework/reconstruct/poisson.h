@@ -121,14 +121,6 @@ struct PoissonOptions {
 // the cloud, 1.5 samples per node, PoissonRecon's point weight 10
 // (area-normalised), no open-surface re-solves. Measured in docs/poisson.md.
 PoissonOptions OfficialRftaPoisson();
-// The fine-tuning surfaces: the official call, extracted one octree level
-// coarser (extract_quantile 0.2). PoissonRecon extracts on the adaptive
-// leaves (38k vertices at bunny n = 20); ours marches one level, which at the
-// median sample depth gives 86k and one level coarser 21.5k. The tuning
-// surfaces only give each sphere its closest surface point; measured on 9
-// bench meshes at n = 10 and 20 (docs/rfta_table1.md, session 13): Chamfer
-// 0.0646 -> 0.0642 and 0.0333 -> 0.0324, half the time.
-PoissonOptions OfficialRftaTuningPoisson();
 
 // The screened_poisson stage's `backend` names, in its choice order.
 inline constexpr EnumName<PoissonOptions::Backend> kPoissonBackendNames[] = {

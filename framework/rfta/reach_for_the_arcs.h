@@ -58,10 +58,9 @@ struct RftaOptions {
   // 3D, the final surface and those inside fine-tuning: the official call
   // (OfficialRftaPoisson: arcs' own screened Poisson, depth 10, cube 3.2x,
   // weight 10 area-normalised), one preset for both as in the official code;
-  // the tuning surfaces warm-start from the previous iteration's solution
-  // and are extracted one octree level coarser (OfficialRftaTuningPoisson).
+  // the tuning surfaces warm-start from the previous iteration's solution.
   PoissonOptions poisson = OfficialRftaPoisson();
-  PoissonOptions tuning_poisson = OfficialRftaTuningPoisson();
+  PoissonOptions tuning_poisson = OfficialRftaPoisson();
   Poisson2DOptions poisson_2d;         // 2D final curve
   // 2D curves inside fine-tuning: the same as the final one (as in 3D, where
   // the official code makes every surface with one call).

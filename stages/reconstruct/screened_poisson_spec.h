@@ -11,9 +11,8 @@
 
 namespace arcs {
 
-// `tuning`: the fine-tuning surfaces' preset (OfficialRftaTuningPoisson).
-inline StageSpec OfficialPoissonSpec(bool tuning = false) {
-  const PoissonOptions o = tuning ? OfficialRftaTuningPoisson() : OfficialRftaPoisson();
+inline StageSpec OfficialPoissonSpec() {
+  const PoissonOptions o = OfficialRftaPoisson();
   StageSpec s;
   s.stage = "screened_poisson";
   s.params.Set("backend", std::string("arcs"));
@@ -23,7 +22,6 @@ inline StageSpec OfficialPoissonSpec(bool tuning = false) {
   s.params.Set("point_weight", o.point_weight);
   s.params.Set("open_retries", std::int64_t{o.open_retries});
   s.params.Set("area_normalized", o.area_normalized);
-  if (tuning) s.params.Set("extract_quantile", o.extract_quantile);
   return s;
 }
 

@@ -33,10 +33,9 @@ Binder<FineTuneOptions> FineTuneParams() {
             "no feasible step: jump to the target and repair it by Alg. 2 (official) instead of staying")
       .Bool("keep_points_when_missed", &O::keep_points_when_missed,
             "spheres the surface misses keep all their points (false: only the moved one, paper Alg. 3)");
-  FinalCheckParam(b).Stage("reconstructor", "reconstructor", OfficialPoissonSpec(/*tuning=*/true),
+  FinalCheckParam(b).Stage("reconstructor", "reconstructor", OfficialPoissonSpec(),
                            "surface reconstructor the points are tuned against (paper: screened Poisson; default "
-                           "the official call, warm-started from the previous iteration, extracted one octree "
-                           "level coarser: extract_quantile 0.2)");
+                           "the official call, warm-started from the previous iteration)");
   return b;
 }
 

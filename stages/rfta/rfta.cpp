@@ -156,10 +156,9 @@ void RegisterRfta(Registry& r) {
       .Stage("reconstructor", "reconstructor", OfficialPoissonSpec(),
              "surface reconstructor of the final mesh (paper: screened Poisson; default the official call: "
              "arcs' own solver, depth 10, cube 3.2x, 1.5 samples per node, weight 10, docs/poisson.md)")
-      .Stage("tuning_reconstructor", "reconstructor", OfficialPoissonSpec(/*tuning=*/true),
-             "reconstructor inside fine-tuning (default: the same call as the final one, as the official code, "
-             "warm-started from the previous iteration and extracted one octree level coarser, extract_quantile "
-             "0.2: docs/rfta_table1.md)")
+      .Stage("tuning_reconstructor", "reconstructor", OfficialPoissonSpec(),
+             "reconstructor inside fine-tuning (default: the same call as the final one, as the official code; "
+             "warm-started from the previous iteration)")
       .Bool("drop_infeasible_components", true,
             "3D: remove final components most of whose vertices lie inside a sample's sphere by more than tol "
             "(ruled out by the samples; not in the paper, the official code keeps them)");
