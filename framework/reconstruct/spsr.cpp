@@ -323,11 +323,19 @@ class Solver {
   void Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<std::vector<double>>& b);
   Vec3 ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z) const;
   int SolveLevel(Level& L, const std::vector<double>& b, double beta, int max_iters, double tol);
-  double Value(int level, Key k) { return ValueWith(level, k, memo_map_, memo_val_); }
+  // Prolonged values of nodes that are not unknowns, per level: the solver's
+  // own, or a parallel block's.
+  struct Memo {
+    std::vector<KeyMap> map;
+    std::vector<std::vector<double>> val;
+    Memo() = default;
+    explicit Memo(std::size_t levels) : map(levels), val(levels) {}
+  };
+  double Value(int level, Key k) { return ValueWith(level, k, memo_); }
   // χ at level-`level` grid node k with the memo given (values of nodes that
   // are not unknowns, per level): a pure function of the solution, so any
   // memo (the solver's, or a thread's own) gives the same bits.
-  double ValueWith(int level, Key k, std::vector<KeyMap>& memo_map, std::vector<std::vector<double>>& memo_val) const;
+  double ValueWith(int level, Key k, Memo& memo) const;
   int extract_level_ = 0;
   int islands_ = 0;
   // χ at p (unit cube), trilinear on the finest level's grid.
@@ -343,8 +351,7 @@ class Solver {
   std::vector<double> area_, depth_;
   double mean_area_ = 0;
   std::vector<Level> lv_;  // index d - F
-  std::vector<KeyMap> memo_map_;
-  std::vector<std::vector<double>> memo_val_;
+  Memo memo_;
   Level& At(int d) { return lv_[d - F_]; }
   const Level& At(int d) const { return lv_[d - F_]; }
 };
@@ -863,18 +870,17 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
 
 // χ at node k of `level` (any grid node: unknowns read U, others are
 // prolonged from the coarser level, memoised).
-double Solver::ValueWith(int level, Key k, std::vector<KeyMap>& memo_map,
-                         std::vector<std::vector<double>>& memo_val) const {
+double Solver::ValueWith(int level, Key k, Memo& memo) const {
   const Level& L = At(level);
   const int id = L.node_map.Find(k);
   if (id >= 0) return L.U[id];
   if (level == F_) return 0.0;  // cannot happen: level F is complete
-  KeyMap& mm = memo_map[level - F_];
-  std::vector<double>& mv = memo_val[level - F_];
+  KeyMap& mm = memo.map[level - F_];
+  std::vector<double>& mv = memo.val[level - F_];
   const int m = mm.Find(k);
   if (m >= 0) return mv[m];
   const double v = ParentSum<double>(KX(k), KY(k), KZ(k), [&](int a, int b, int c) {
-    return ValueWith(level - 1, Pack(a, b, c), memo_map, memo_val);
+    return ValueWith(level - 1, Pack(a, b, c), memo);
   });
   mm.Insert(k, static_cast<int>(mv.size()));
   mv.push_back(v);
@@ -1031,10 +1037,9 @@ Mesh Solver::Extract(double iso) {
     need.erase(std::unique(need.begin(), need.end()), need.end());
     std::vector<double> val(need.size());
     ParallelFor(static_cast<std::int64_t>(need.size()), [&](std::int64_t b0, std::int64_t e0) {
-      std::vector<KeyMap> mm(lv_.size());
-      std::vector<std::vector<double>> mv(lv_.size());
+      Memo memo(lv_.size());
       for (std::int64_t i = b0; i < e0; ++i)
-        val[i] = iso - ValueWith(Lmax_, Pack(KX(need[i]) << up, KY(need[i]) << up, KZ(need[i]) << up), mm, mv);
+        val[i] = iso - ValueWith(Lmax_, Pack(KX(need[i]) << up, KY(need[i]) << up, KZ(need[i]) << up), memo);
     }, 512);
     for (std::size_t i = 0; i < need.size(); ++i) {
       rmap.Insert(need[i], static_cast<int>(rval.size()));
@@ -1161,8 +1166,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
   std::vector<std::vector<double>> b;
   Constraints(V, b);
   V.clear();
-  memo_map_.assign(lv_.size(), KeyMap());
-  memo_val_.assign(lv_.size(), {});
+  memo_ = Memo(lv_.size());
   const SpsrWarmStart* w = (warm && *warm && (*warm)->full_depth == F_) ? warm->get() : nullptr;
   int total_iters = 0;
   long long unknowns = 0;
@@ -1178,24 +1182,22 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
       // parallel, each block with its own memo of prolonged values (the same
       // bits as one serial memo).
       const std::int64_t nn = static_cast<std::int64_t>(L.nodes.size());
-      auto block_coarse = [&](std::vector<KeyMap>& mm, std::vector<std::vector<double>>& mv, int x, int y, int z) {
-        return ParentSum<double>(x, y, z, [&](int a, int bb, int c) { return ValueWith(d - 1, Pack(a, bb, c), mm, mv); });
+      auto block_coarse = [&](Memo& memo, int x, int y, int z) {
+        return ParentSum<double>(x, y, z, [&](int a, int bb, int c) { return ValueWith(d - 1, Pack(a, bb, c), memo); });
       };
       ParallelFor(nn, [&](std::int64_t b0, std::int64_t e0) {
-        std::vector<KeyMap> mm(lv_.size());
-        std::vector<std::vector<double>> mv(lv_.size());
+        Memo memo(lv_.size());
         for (std::int64_t i = b0; i < e0; ++i)
-          P[i] = block_coarse(mm, mv, KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
+          P[i] = block_coarse(memo, KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
       }, 4096);
       const Tent1D& t = L.tent;
       ParallelFor(nn, [&](std::int64_t b0, std::int64_t e0) {
-        std::vector<KeyMap> mm(lv_.size());
-        std::vector<std::vector<double>> mv(lv_.size());
+        Memo memo(lv_.size());
         for (std::int64_t i = b0; i < e0; ++i) {
           const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
           double acc = 0;
           ForStencil(L, static_cast<std::size_t>(i), [&](int o, int a, int bb, int c, int j) {
-            const double pv = j >= 0 ? P[j] : block_coarse(mm, mv, a, bb, c);
+            const double pv = j >= 0 ? P[j] : block_coarse(memo, a, bb, c);
             if (pv == 0) return;
             acc += pv * (t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) +
                          t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
