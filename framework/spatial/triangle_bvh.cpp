@@ -235,6 +235,7 @@ namespace {
 
 struct BuildItem {
   double lo[3], hi[3], c[3];
+  std::int32_t face;
 };
 
 struct Bounds {
@@ -253,6 +254,7 @@ struct Bounds {
 
 constexpr int kBins = 16;
 constexpr int kMaxLeaf = 4;
+constexpr int kAllAxesBelow = 64;  // ranges of at most this many triangles bin all three axes
 
 // Bin of centroid coordinate c in [lo, lo + extent]: always in [0, kBins),
 // for any finite input. The position is a quotient (not c * (kBins / extent)):
@@ -265,6 +267,25 @@ inline int BinOf(double c, double lo, double extent) {
   if (t >= kBins - 1) return kBins - 1;
   return static_cast<int>(t);
 }
+
+// BinOf with the quotient hoisted: (c - lo) * (kBins / extent) when that
+// scale is finite (one multiply per item instead of a division), else the
+// quotient itself. Bins may differ from BinOf's by one at a bin boundary
+// (rounding); the build only needs the same bin for the same item every time.
+struct Binner {
+  double lo, extent, scale;
+  bool finite;
+  Binner(double lo_, double extent_) : lo(lo_), extent(extent_), scale(kBins / extent_) {
+    finite = std::isfinite(scale) && scale > 0.0;
+  }
+  int operator()(double c) const {
+    if (!finite) return BinOf(c, lo, extent);
+    const double t = (c - lo) * scale;
+    if (!(t > 0.0)) return 0;
+    if (t >= kBins - 1) return kBins - 1;
+    return static_cast<int>(t);
+  }
+};
 
 }  // namespace
 
@@ -283,16 +304,17 @@ void TriangleBvh::Impl::Build() {
       it.hi[k] = std::max({x, y, z});
       it.c[k] = 0.5 * it.lo[k] + 0.5 * it.hi[k];  // no overflow near +-DBL_MAX
     }
+    it.face = f;
   }
-  std::vector<std::int32_t> order(nf);
-  for (int f = 0; f < nf; ++f) order[f] = f;
+  // The items themselves are partitioned (not an index array into them): the
+  // binning passes then read memory in order.
   bin.reserve(std::max(1, 2 * nf));
 
   // Iterative build with an explicit stack of (node index, begin, end), in
   // two phases: the top of the tree serially, down to subtrees of at most
   // `defer` triangles; then those subtrees in parallel, each into its own node
   // array, appended in a fixed order. A subtree's splits depend only on its
-  // own range of `order`, so the tree is the serial build's at any thread
+  // own range of the items, so the tree is the serial build's at any thread
   // count, and the depth-first re-layout below makes the layout identical too.
   struct Task {
     int node, begin, end;
@@ -302,7 +324,7 @@ void TriangleBvh::Impl::Build() {
   auto split = [&](const Task& task, std::vector<Node>& out, std::vector<Task>& stack) {
     Bounds box, cbox;
     for (int i = task.begin; i < task.end; ++i) {
-      const BuildItem& it = items[order[i]];
+      const BuildItem& it = items[i];
       box.Grow(it.lo, it.hi);
       cbox.GrowPoint(it.c);
     }
@@ -320,14 +342,22 @@ void TriangleBvh::Impl::Build() {
     // Binned SAH over the centroid bounds, all three axes.
     int best_axis = -1, best_split = -1;
     double best_cost = INFINITY;
+    // Large ranges bin only the longest centroid axis (a third of the passes
+    // over the items; the split is nearly always along it), small ones all three.
+    int longest = 0;
+    for (int k = 1; k < 3; ++k)
+      if (cbox.hi[k] - cbox.lo[k] > cbox.hi[longest] - cbox.lo[longest]) longest = k;
+    const bool all_axes = task.end - task.begin <= kAllAxesBelow;
     for (int axis = 0; axis < 3; ++axis) {
+      if (!all_axes && axis != longest) continue;
       const double extent = cbox.hi[axis] - cbox.lo[axis];
       if (!(extent > 0.0)) continue;
       Bounds bin_box[kBins];
       int bin_count[kBins] = {};
+      const Binner binner(cbox.lo[axis], extent);
       for (int i = task.begin; i < task.end; ++i) {
-        const BuildItem& it = items[order[i]];
-        const int b = BinOf(it.c[axis], cbox.lo[axis], extent);
+        const BuildItem& it = items[i];
+        const int b = binner(it.c[axis]);
         bin_count[b]++;
         bin_box[b].Grow(it.lo, it.hi);
       }
@@ -361,13 +391,10 @@ void TriangleBvh::Impl::Build() {
     if (best_axis < 0) {
       mid = task.begin + n / 2;  // all centroids coincide: split by count
     } else {
-      const double extent = cbox.hi[best_axis] - cbox.lo[best_axis];
-      auto it = std::partition(order.begin() + task.begin, order.begin() + task.end,
-                               [&](std::int32_t f) {
-                                 return BinOf(items[f].c[best_axis], cbox.lo[best_axis], extent) <=
-                                        best_split;
-                               });
-      mid = static_cast<int>(it - order.begin());
+      const Binner binner(cbox.lo[best_axis], cbox.hi[best_axis] - cbox.lo[best_axis]);
+      auto it = std::partition(items.begin() + task.begin, items.begin() + task.end,
+                               [&](const BuildItem& item) { return binner(item.c[best_axis]) <= best_split; });
+      mid = static_cast<int>(it - items.begin());
       if (mid == task.begin || mid == task.end) mid = task.begin + n / 2;
     }
     const int left = static_cast<int>(out.size());
@@ -446,7 +473,7 @@ void TriangleBvh::Impl::Build() {
   face.resize(nf);
   degenerate.resize(nf);
   for (int i = 0; i < nf; ++i) {
-    const int f = order[i];
+    const int f = items[i].face;
     face[i] = f;
     Tri& t = tris[i];
     for (int k = 0; k < 3; ++k) {

@@ -263,54 +263,109 @@ FastWindingNumber::FastWindingNumber(const Mesh& mesh, const Options& options)
       }
     }
   }
-  // Each node from its own range: in parallel, the same sums at any thread count.
+  // Moments bottom-up (O(F)): a leaf's from its triangles, an inner node's
+  // from its two children's, shifted from the child's centre p_c to its own
+  // p (d = p_c - p, (x - p) = (x - p_c) + d):
+  //   m  = sum_c m_c + d n_c^T,
+  //   C_i = sum_c C_c,i + g_c,i d^T + d g_c,i^T + n_c,i d d^T, g_c,i = column i of m_c,
+  // exact in exact arithmetic (the per-triangle average of (x-p)(x-p)^T is a
+  // quadratic in p). Children have larger indices than their parent, so the
+  // inner nodes are combined in decreasing index order after the leaves.
+  // The radius is the exact maximal corner distance over the node's range.
+  struct Sums {
+    double asum = 0.0;
+    int count = 0;
+    Vec3 p = Vec3::Zero(), csum = Vec3::Zero(), nsum = Vec3::Zero();
+    Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+    Eigen::Matrix3d cm[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
+  };
+  std::vector<Sums> sums(nodes.size());
   ParallelFor(static_cast<std::int64_t>(nodes.size()), [&](std::int64_t k0, std::int64_t k1) {
     for (std::int64_t k = k0; k < k1; ++k) {
       FwnNode& nd = nodes[k];
       const auto [b, e] = range[k];
-      double asum = 0.0;
-      Vec3 p = Vec3::Zero(), nsum = Vec3::Zero();
-      for (int i = b; i < e; ++i) {
-        const int f = order[i];
-        asum += area[f];
-        p += area[f] * centroid[f];
-        nsum += an[f];
-      }
-      if (asum > 0.0) {
-        p /= asum;
-      } else {
-        p = Vec3::Zero();
-        for (int i = b; i < e; ++i) p += centroid[order[i]];
-        p /= (e - b);
-      }
-      Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
-      Eigen::Matrix3d cm[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero()};
       double r2 = 0.0;
+      if (nd.count == 0) {
+        nd.radius = -1.0;  // inner: the radius needs the centre, set below
+        continue;
+      }
+      Sums& S = sums[k];
       for (int i = b; i < e; ++i) {
         const int f = order[i];
-        m += (centroid[f] - p) * an[f].transpose();
+        S.asum += area[f];
+        S.p += area[f] * centroid[f];
+        S.csum += centroid[f];
+        S.nsum += an[f];
+      }
+      S.count = e - b;
+      S.p = S.asum > 0.0 ? Vec3(S.p / S.asum) : Vec3(S.csum / S.count);
+      const Vec3& p = S.p;
+      for (int i = b; i < e; ++i) {
+        const int f = order[i];
+        S.m += (centroid[f] - p) * an[f].transpose();
         // Second moment of the triangle about p: integral of d d^T over the
         // triangle = A / 12 (sum_v v v^T + s s^T), v the corners - p, s their sum.
         Vec3 v[3];
         for (int c = 0; c < 3; ++c) v[c] = mesh.V.row(mesh.F(f, c)).transpose() - p;
         const Vec3 sv = v[0] + v[1] + v[2];
-        const Eigen::Matrix3d S =
+        const Eigen::Matrix3d T =
             (v[0] * v[0].transpose() + v[1] * v[1].transpose() + v[2] * v[2].transpose() + sv * sv.transpose()) /
             12.0;
-        for (int c = 0; c < 3; ++c) cm[c] += an[f][c] * S;
+        for (int c = 0; c < 3; ++c) S.cm[c] += an[f][c] * T;
         for (int c = 0; c < 3; ++c) r2 = std::max(r2, v[c].squaredNorm());
       }
-      for (int c = 0; c < 3; ++c) nd.centre[c] = p[c], nd.n[c] = nsum[c];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) nd.m[3 * i + j] = m(i, j);
-      for (int i = 0; i < 3; ++i) {
-        const Eigen::Matrix3d& S = cm[i];
-        double* ci = nd.c + 6 * i;
-        ci[0] = S(0, 0), ci[1] = S(0, 1), ci[2] = S(0, 2), ci[3] = S(1, 1), ci[4] = S(1, 2), ci[5] = S(2, 2);
-        nd.cz[i] = S.trace();
-      }
-      for (int k = 0; k < 3; ++k) nd.cw[k] = cm[0](0, k) + cm[1](1, k) + cm[2](2, k);
       nd.radius = std::sqrt(r2);
+    }
+  }, 64);
+  for (std::int64_t k = static_cast<std::int64_t>(nodes.size()) - 1; k >= 0; --k) {
+    if (nodes[k].count > 0) continue;
+    Sums& S = sums[k];
+    const Sums* kid[2] = {&sums[nodes[k].first], &sums[nodes[k].first + 1]};
+    Vec3 wp = Vec3::Zero();
+    for (const Sums* c : kid) {
+      S.asum += c->asum;
+      S.count += c->count;
+      S.csum += c->csum;
+      S.nsum += c->nsum;
+      wp += c->asum * c->p;
+    }
+    S.p = S.asum > 0.0 ? Vec3(wp / S.asum) : Vec3(S.csum / S.count);
+    for (const Sums* c : kid) {
+      const Vec3 d = c->p - S.p;
+      S.m += c->m + d * c->nsum.transpose();
+      const Eigen::Matrix3d dd = d * d.transpose();
+      for (int i = 0; i < 3; ++i) {
+        const Vec3 g = c->m.col(i);
+        S.cm[i] += c->cm[i] + g * d.transpose() + d * g.transpose() + c->nsum[i] * dd;
+      }
+    }
+  }
+  // Exact radii of the inner nodes about their centres (a pass over each
+  // node's corner range, parallel), then the stored form.
+  ParallelFor(static_cast<std::int64_t>(nodes.size()), [&](std::int64_t k0, std::int64_t k1) {
+    for (std::int64_t k = k0; k < k1; ++k) {
+      FwnNode& nd = nodes[k];
+      const Sums& S = sums[k];
+      const Vec3& p = S.p;
+      if (nd.count == 0) {
+        const auto [b, e] = range[k];
+        double r2 = 0.0;
+        for (int i = b; i < e; ++i) {
+          const int f = order[i];
+          for (int c = 0; c < 3; ++c) r2 = std::max(r2, (mesh.V.row(mesh.F(f, c)).transpose() - p).squaredNorm());
+        }
+        nd.radius = std::sqrt(r2);
+      }
+      for (int c = 0; c < 3; ++c) nd.centre[c] = p[c], nd.n[c] = S.nsum[c];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) nd.m[3 * i + j] = S.m(i, j);
+      for (int i = 0; i < 3; ++i) {
+        const Eigen::Matrix3d& C = S.cm[i];
+        double* ci = nd.c + 6 * i;
+        ci[0] = C(0, 0), ci[1] = C(0, 1), ci[2] = C(0, 2), ci[3] = C(1, 1), ci[4] = C(1, 2), ci[5] = C(2, 2);
+        nd.cz[i] = C.trace();
+      }
+      for (int k2 = 0; k2 < 3; ++k2) nd.cw[k2] = S.cm[0](0, k2) + S.cm[1](1, k2) + S.cm[2](2, k2);
     }
   }, 64);
 }
