@@ -871,10 +871,18 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
 // χ at node k of `level` (any grid node: unknowns read U, others are
 // prolonged from the coarser level, memoised).
 double Solver::ValueWith(int level, Key k, Memo& memo) const {
-  const Level& L = At(level);
-  const int id = L.node_map.Find(k);
-  if (id >= 0) return L.U[id];
-  if (level == F_) return 0.0;  // cannot happen: level F is complete
+  for (;;) {
+    const Level& L = At(level);
+    const int id = L.node_map.Find(k);
+    if (id >= 0) return L.U[id];
+    if (level == F_) return 0.0;  // cannot happen: level F is complete
+    // A node with even coordinates has one parent, of weight 1: its value is
+    // the parent's (the same bits as ParentSum's single term), not memoised.
+    const int x = KX(k), y = KY(k), z = KZ(k);
+    if (((x | y | z) & 1) != 0) break;
+    k = Pack(x >> 1, y >> 1, z >> 1);
+    --level;
+  }
   KeyMap& mm = memo.map[level - F_];
   std::vector<double>& mv = memo.val[level - F_];
   const int m = mm.Find(k);
@@ -968,6 +976,131 @@ Mesh Solver::Extract(double iso) {
     gval.push_back(v);
     return v;
   };
+  // The values a round of cells needs, computed in parallel before the round
+  // (each block with its own memo: the same bits as the serial memo): first
+  // the raw values at the cells' corners; then, for the island rule, the face
+  // neighbours of the corners that could still be islands (a corner with a
+  // known neighbour on its own side is not one, whatever the others are);
+  // then the values marching cubes sees at the corners, inserted in key order.
+  auto eval_raw = [&](std::vector<Key>& need) {
+    std::sort(need.begin(), need.end());
+    need.erase(std::unique(need.begin(), need.end()), need.end());
+    std::vector<double> val(need.size());
+    ParallelFor(static_cast<std::int64_t>(need.size()), [&](std::int64_t b0, std::int64_t e0) {
+      Memo memo(lv_.size());
+      for (std::int64_t i = b0; i < e0; ++i)
+        val[i] = iso - ValueWith(Lmax_, Pack(KX(need[i]) << up, KY(need[i]) << up, KZ(need[i]) << up), memo);
+    }, 512);
+    for (std::size_t i = 0; i < need.size(); ++i) {
+      rmap.Insert(need[i], static_cast<int>(rval.size()));
+      rval.push_back(val[i]);
+    }
+  };
+  static const int kFaceNb[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  // Keys fn(i, out) appends for i in [0, n), gathered in parallel by fixed
+  // blocks and concatenated in block order (callers sort them anyway).
+  auto gather = [&](std::int64_t n, auto&& fn) {
+    constexpr std::int64_t kBlock = 2048;
+    const std::int64_t nb = (n + kBlock - 1) / kBlock;
+    std::vector<std::vector<Key>> part(nb);
+    ParallelFor(nb, [&](std::int64_t b0, std::int64_t e0) {
+      for (std::int64_t blk = b0; blk < e0; ++blk)
+        for (std::int64_t i = blk * kBlock; i < std::min(n, (blk + 1) * kBlock); ++i) fn(i, part[blk]);
+    }, 1);
+    std::vector<Key> out;
+    for (const auto& v : part) out.insert(out.end(), v.begin(), v.end());
+    return out;
+  };
+  // Everything G needs at the nodes `cand` (any that are not in gmap yet).
+  auto prefetch_nodes = [&](std::vector<Key> cand) {
+    std::sort(cand.begin(), cand.end());
+    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+    std::vector<Key> gneed = gather(static_cast<std::int64_t>(cand.size()), [&](std::int64_t i, std::vector<Key>& out) {
+      if (gmap.Find(cand[i]) < 0) out.push_back(cand[i]);
+    });
+    std::vector<Key> need = gather(static_cast<std::int64_t>(gneed.size()), [&](std::int64_t i, std::vector<Key>& out) {
+      if (rmap.Find(gneed[i]) < 0) out.push_back(gneed[i]);
+    });
+    eval_raw(need);
+    if (o_.remove_node_islands) {
+      // Passes: each unsettled corner asks for its first unknown face
+      // neighbour (in `seen`'s order) until it is settled: a neighbour
+      // outside the grid or one on its own side (not an island), or all six
+      // known. As `seen` does serially, a neighbour past the first on the
+      // corner's side is never computed.
+      std::vector<Key> pending = gneed;
+      while (!pending.empty()) {
+        std::vector<Key> pairs = gather(static_cast<std::int64_t>(pending.size()), [&](std::int64_t i, std::vector<Key>& out) {
+          const Key k = pending[i];
+          const int x = KX(k), y = KY(k), z = KZ(k);
+          const bool neg = rval[rmap.Find(k)] < 0;
+          for (const auto& o : kFaceNb) {
+            const int a = x + o[0], b = y + o[1], c = z + o[2];
+            if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) return;  // never an island
+            const int id = rmap.Find(Pack(a, b, c));
+            if (id < 0) {
+              out.push_back(k);
+              out.push_back(Pack(a, b, c));
+              return;
+            }
+            if ((rval[id] < 0) == neg) return;  // not an island
+          }
+        });
+        need.clear();
+        pending.clear();
+        for (std::size_t i = 0; i < pairs.size(); i += 2) {
+          pending.push_back(pairs[i]);
+          need.push_back(pairs[i + 1]);
+        }
+        eval_raw(need);
+      }
+    }
+    std::vector<double> gv(gneed.size());
+    std::vector<char> isl(gneed.size());
+    // `seen`'s rule on what is known now: a corner with a neighbour outside
+    // the grid or a known one on its own side is not an island; otherwise all
+    // six are known and on the other side, and it takes their mean (summed
+    // in `seen`'s order: the same bits).
+    auto value_seen = [&](int x, int y, int z, bool* island) {
+      const double v = rval[rmap.Find(Pack(x, y, z))];
+      *island = false;
+      if (!o_.remove_node_islands) return v;
+      double u[6];
+      for (int j = 0; j < 6; ++j) {
+        const int a = x + kFaceNb[j][0], b = y + kFaceNb[j][1], c = z + kFaceNb[j][2];
+        if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) return v;
+        const int id = rmap.Find(Pack(a, b, c));
+        if (id < 0) return v;  // only a settled corner leaves a neighbour unknown
+        u[j] = rval[id];
+        if ((u[j] < 0) == (v < 0)) return v;
+      }
+      double mean = 0;
+      for (int j = 0; j < 6; ++j) mean += u[j];
+      *island = true;
+      return mean / 6;
+    };
+    ParallelFor(static_cast<std::int64_t>(gneed.size()), [&](std::int64_t b0, std::int64_t e0) {
+      for (std::int64_t i = b0; i < e0; ++i) {
+        bool island;
+        gv[i] = value_seen(KX(gneed[i]), KY(gneed[i]), KZ(gneed[i]), &island);
+        isl[i] = island;
+      }
+    }, 1024);
+    for (std::size_t i = 0; i < gneed.size(); ++i) {
+      islands_ += isl[i];
+      gmap.Insert(gneed[i], static_cast<int>(gval.size()));
+      gval.push_back(gv[i]);
+    }
+  };
+  auto prefetch = [&](const std::vector<Key>& cells) {
+    prefetch_nodes(gather(static_cast<std::int64_t>(cells.size()), [&](std::int64_t i, std::vector<Key>& out) {
+      const int x = KX(cells[i]), y = KY(cells[i]), z = KZ(cells[i]);
+      for (int q = 0; q < 8; ++q) {
+        const Key k = Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1));
+        if (gmap.Find(k) < 0) out.push_back(k);
+      }
+    }));
+  };
   std::vector<Key> seeds;
   for (const Vec3& p : p_) {
     int c[3];
@@ -978,6 +1111,14 @@ Mesh Solver::Extract(double iso) {
   // Sign changes on the complete level's edges, located on the finest grid.
   {
     const int rF = 1 << F_, step = 1 << (L - F_);
+    {  // the complete level's nodes, in parallel first (the search below reads them)
+      std::vector<Key> all;
+      all.reserve(static_cast<std::size_t>(rF + 1) * (rF + 1) * (rF + 1));
+      for (int z = 0; z <= rF; ++z)
+        for (int y = 0; y <= rF; ++y)
+          for (int x = 0; x <= rF; ++x) all.push_back(Pack(x * step, y * step, z * step));
+      prefetch_nodes(std::move(all));
+    }
     for (int z = 0; z <= rF; ++z)
       for (int y = 0; y <= rF; ++y)
         for (int x = 0; x <= rF; ++x)
@@ -1012,67 +1153,6 @@ Mesh Solver::Extract(double iso) {
   seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
   KeyMap visited;
   for (Key s : seeds) visited.Insert(s, 0);
-  // The raw values a round of cells needs (their corners and, for the island
-  // rule, the corners' face neighbours), computed in parallel before the
-  // round, each block with its own memo (the same bits as the serial memo).
-  auto prefetch = [&](const std::vector<Key>& cells) {
-    std::vector<Key> need;
-    auto want = [&](int x, int y, int z) {
-      if (x < 0 || y < 0 || z < 0 || x > res || y > res || z > res) return;
-      const Key k = Pack(x, y, z);
-      if (rmap.Find(k) < 0) need.push_back(k);
-    };
-    for (Key cell : cells) {
-      const int x = KX(cell), y = KY(cell), z = KZ(cell);
-      for (int q = 0; q < 8; ++q) {
-        const int a = x + (q & 1), b = y + ((q >> 1) & 1), c = z + ((q >> 2) & 1);
-        want(a, b, c);
-        if (o_.remove_node_islands) {
-          want(a + 1, b, c), want(a - 1, b, c), want(a, b + 1, c);
-          want(a, b - 1, c), want(a, b, c + 1), want(a, b, c - 1);
-        }
-      }
-    }
-    std::sort(need.begin(), need.end());
-    need.erase(std::unique(need.begin(), need.end()), need.end());
-    std::vector<double> val(need.size());
-    ParallelFor(static_cast<std::int64_t>(need.size()), [&](std::int64_t b0, std::int64_t e0) {
-      Memo memo(lv_.size());
-      for (std::int64_t i = b0; i < e0; ++i)
-        val[i] = iso - ValueWith(Lmax_, Pack(KX(need[i]) << up, KY(need[i]) << up, KZ(need[i]) << up), memo);
-    }, 512);
-    for (std::size_t i = 0; i < need.size(); ++i) {
-      rmap.Insert(need[i], static_cast<int>(rval.size()));
-      rval.push_back(val[i]);
-    }
-    // Then the values marching cubes sees at the corners (all the raw values
-    // they read are known now), in parallel, inserted in key order.
-    std::vector<Key> gneed;
-    for (Key cell : cells) {
-      const int x = KX(cell), y = KY(cell), z = KZ(cell);
-      for (int q = 0; q < 8; ++q) {
-        const Key k = Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1));
-        if (gmap.Find(k) < 0) gneed.push_back(k);
-      }
-    }
-    std::sort(gneed.begin(), gneed.end());
-    gneed.erase(std::unique(gneed.begin(), gneed.end()), gneed.end());
-    std::vector<double> gv(gneed.size());
-    std::vector<char> isl(gneed.size());
-    auto known = [&](int x, int y, int z) { return rval[rmap.Find(Pack(x, y, z))]; };
-    ParallelFor(static_cast<std::int64_t>(gneed.size()), [&](std::int64_t b0, std::int64_t e0) {
-      for (std::int64_t i = b0; i < e0; ++i) {
-        bool island;
-        gv[i] = seen(KX(gneed[i]), KY(gneed[i]), KZ(gneed[i]), known, &island);
-        isl[i] = island;
-      }
-    }, 1024);
-    for (std::size_t i = 0; i < gneed.size(); ++i) {
-      islands_ += isl[i];
-      gmap.Insert(gneed[i], static_cast<int>(gval.size()));
-      gval.push_back(gv[i]);
-    }
-  };
   KeyMap emap[3];
   std::vector<Vec3> verts;
   std::vector<std::array<int, 3>> tris;
@@ -1214,7 +1294,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
         }
       }
     }
-    std::fill(L.x.begin(), L.x.end(), 0.0);
+      std::fill(L.x.begin(), L.x.end(), 0.0);
     if (w && d - F_ < static_cast<int>(w->nodes.size())) {
       const std::vector<Key>& wk = w->nodes[d - F_];
       const std::vector<double>& wx = w->x[d - F_];
