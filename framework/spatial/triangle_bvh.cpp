@@ -254,7 +254,6 @@ struct Bounds {
 
 constexpr int kBins = 16;
 constexpr int kMaxLeaf = 4;
-constexpr int kAllAxesBelow = 64;  // ranges of at most this many triangles bin all three axes
 
 // Bin of centroid coordinate c in [lo, lo + extent]: always in [0, kBins),
 // for any finite input. The position is a quotient (not c * (kBins / extent)):
@@ -286,6 +285,103 @@ struct Binner {
     return static_cast<int>(t);
   }
 };
+
+}  // namespace
+
+namespace {
+
+// Spreads the low 21 bits of v to every third bit.
+inline std::uint64_t Spread3(std::uint64_t v) {
+  v &= 0x1fffff;
+  v = (v | v << 32) & 0x1f00000000ffffULL;
+  v = (v | v << 16) & 0x1f0000ff0000ffULL;
+  v = (v | v << 8) & 0x100f00f00f00f00fULL;
+  v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+  v = (v | v << 2) & 0x1249249249249249ULL;
+  return v;
+}
+
+// The cheap build (meshes queried a few times per triangle, e.g. each
+// fine-tuning iteration's surface): items sorted by the Morton code of their
+// centroid (ties by face), each range split where its codes' highest
+// differing bit changes (the middle when all codes are equal), down to leaves
+// of at most kMaxLeaf; boxes bottom-up. O(F log F) in a sort, instead of the
+// SAH build's binning passes at every level. Same layout as the SAH build
+// (children allocated as a pair, inner first = right child), and the answers
+// are the same (exact, ties to the lowest face index), only the traversal
+// differs.
+void MortonTopology(std::vector<BuildItem>& items, std::vector<Node>& bin) {
+  const int nf = static_cast<int>(items.size());
+  Bounds cbox;
+  for (const BuildItem& it : items) cbox.GrowPoint(it.c);
+  std::vector<std::pair<std::uint64_t, std::int32_t>> code(nf);
+  constexpr double kCells = 2097152.0;  // 2^21
+  double scale[3];
+  for (int k = 0; k < 3; ++k) {
+    const double extent = cbox.hi[k] - cbox.lo[k];
+    scale[k] = extent > 0.0 && std::isfinite(kCells / extent) ? kCells / extent : 0.0;
+  }
+  for (int i = 0; i < nf; ++i) {
+    std::uint64_t m = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double t = (items[i].c[k] - cbox.lo[k]) * scale[k];
+      const std::uint64_t q = !(t > 0.0) ? 0 : t >= kCells - 1 ? std::uint64_t(kCells - 1) : std::uint64_t(t);
+      m |= Spread3(q) << k;
+    }
+    code[i] = {m, items[i].face};
+  }
+  std::sort(code.begin(), code.end());
+  {
+    std::vector<BuildItem> sorted(nf);
+    // Face f is item f before sorting.
+    for (int i = 0; i < nf; ++i) sorted[i] = items[code[i].second];
+    items.swap(sorted);
+  }
+  struct Task {
+    int node, begin, end;
+  };
+  bin.clear();
+  bin.reserve(std::max(1, 2 * (nf / kMaxLeaf + 1)));
+  bin.emplace_back();
+  std::vector<Task> stack{{0, 0, nf}};
+  while (!stack.empty()) {
+    const Task t = stack.back();
+    stack.pop_back();
+    const int n = t.end - t.begin;
+    if (n <= kMaxLeaf) {
+      bin[t.node].first = t.begin;
+      bin[t.node].count = n;
+      continue;
+    }
+    const std::uint64_t a = code[t.begin].first, b = code[t.end - 1].first;
+    int mid = t.begin + n / 2;
+    if (a != b) {
+      const int bit = 63 - __builtin_clzll(a ^ b);
+      mid = static_cast<int>(std::partition_point(code.begin() + t.begin, code.begin() + t.end,
+                                                  [&](const auto& c) { return ((c.first >> bit) & 1) == 0; }) -
+                             code.begin());
+    }
+    const int left = static_cast<int>(bin.size());
+    bin.emplace_back();
+    bin.emplace_back();
+    bin[t.node].count = 0;
+    bin[t.node].first = left + 1;
+    stack.push_back({left + 1, mid, t.end});
+    stack.push_back({left, t.begin, mid});
+  }
+  // Boxes bottom-up: children have larger indices than their parent.
+  for (int i = static_cast<int>(bin.size()) - 1; i >= 0; --i) {
+    Node& nd = bin[i];
+    Bounds box;
+    if (nd.count > 0) {
+      for (int k = nd.first; k < nd.first + nd.count; ++k) box.Grow(items[k].lo, items[k].hi);
+    } else {
+      box.Grow(bin[nd.first - 1].lo, bin[nd.first - 1].hi);
+      box.Grow(bin[nd.first].lo, bin[nd.first].hi);
+    }
+    for (int k = 0; k < 3; ++k) nd.lo[k] = box.lo[k], nd.hi[k] = box.hi[k];
+  }
+}
 
 }  // namespace
 
@@ -342,14 +438,7 @@ void TriangleBvh::Impl::Build() {
     // Binned SAH over the centroid bounds, all three axes.
     int best_axis = -1, best_split = -1;
     double best_cost = INFINITY;
-    // Large ranges bin only the longest centroid axis (a third of the passes
-    // over the items; the split is nearly always along it), small ones all three.
-    int longest = 0;
-    for (int k = 1; k < 3; ++k)
-      if (cbox.hi[k] - cbox.lo[k] > cbox.hi[longest] - cbox.lo[longest]) longest = k;
-    const bool all_axes = task.end - task.begin <= kAllAxesBelow;
     for (int axis = 0; axis < 3; ++axis) {
-      if (!all_axes && axis != longest) continue;
       const double extent = cbox.hi[axis] - cbox.lo[axis];
       if (!(extent > 0.0)) continue;
       Bounds bin_box[kBins];
@@ -406,47 +495,51 @@ void TriangleBvh::Impl::Build() {
     stack.push_back({right, mid, task.end});
     stack.push_back({left, task.begin, mid});
   };
-  const int defer = std::max(4096, nf / 8);
-  std::vector<Task> stack, deferred;
-  bin.emplace_back();
-  stack.push_back({0, 0, nf});
-  while (!stack.empty()) {
-    const Task task = stack.back();
-    stack.pop_back();
-    if (task.end - task.begin <= defer && task.node != 0) {
-      deferred.push_back(task);
-      continue;
-    }
-    split(task, bin, stack);
-  }
-  std::vector<std::vector<Node>> sub(deferred.size());
-  ParallelFor(static_cast<std::int64_t>(deferred.size()), [&](std::int64_t b0, std::int64_t e0) {
-    for (std::int64_t k = b0; k < e0; ++k) {
-      std::vector<Node>& out = sub[k];
-      out.reserve(2 * (deferred[k].end - deferred[k].begin));
-      out.emplace_back();
-      std::vector<Task> st{{0, deferred[k].begin, deferred[k].end}};
-      while (!st.empty()) {
-        const Task task = st.back();
-        st.pop_back();
-        split(task, out, st);
+  if (!oriented) {
+    MortonTopology(items, bin);
+  } else {
+    const int defer = std::max(4096, nf / 8);
+    std::vector<Task> stack, deferred;
+    bin.emplace_back();
+    stack.push_back({0, 0, nf});
+    while (!stack.empty()) {
+      const Task task = stack.back();
+      stack.pop_back();
+      if (task.end - task.begin <= defer && task.node != 0) {
+        deferred.push_back(task);
+        continue;
       }
+      split(task, bin, stack);
     }
-  }, 1);
-  // Append: a subtree's node i > 0 goes to offset + i - 1, its root to the
-  // deferred node; pairs stay adjacent, so right children map alike.
-  for (std::size_t k = 0; k < deferred.size(); ++k) {
-    const std::vector<Node>& out = sub[k];
-    const int offset = static_cast<int>(bin.size());
-    auto map = [&](int i) { return i == 0 ? deferred[k].node : offset + i - 1; };
-    for (std::size_t i = 1; i < out.size(); ++i) {
-      Node nd = out[i];
-      if (nd.count == 0) nd.first = map(nd.first);
-      bin.push_back(nd);
+    std::vector<std::vector<Node>> sub(deferred.size());
+    ParallelFor(static_cast<std::int64_t>(deferred.size()), [&](std::int64_t b0, std::int64_t e0) {
+      for (std::int64_t k = b0; k < e0; ++k) {
+        std::vector<Node>& out = sub[k];
+        out.reserve(2 * (deferred[k].end - deferred[k].begin));
+        out.emplace_back();
+        std::vector<Task> st{{0, deferred[k].begin, deferred[k].end}};
+        while (!st.empty()) {
+          const Task task = st.back();
+          st.pop_back();
+          split(task, out, st);
+        }
+      }
+    }, 1);
+    // Append: a subtree's node i > 0 goes to offset + i - 1, its root to the
+    // deferred node; pairs stay adjacent, so right children map alike.
+    for (std::size_t k = 0; k < deferred.size(); ++k) {
+      const std::vector<Node>& out = sub[k];
+      const int offset = static_cast<int>(bin.size());
+      auto map = [&](int i) { return i == 0 ? deferred[k].node : offset + i - 1; };
+      for (std::size_t i = 1; i < out.size(); ++i) {
+        Node nd = out[i];
+        if (nd.count == 0) nd.first = map(nd.first);
+        bin.push_back(nd);
+      }
+      Node root = out[0];
+      if (root.count == 0) root.first = map(root.first);
+      bin[deferred[k].node] = root;
     }
-    Node root = out[0];
-    if (root.count == 0) root.first = map(root.first);
-    bin[deferred[k].node] = root;
   }
   // Depth-first re-layout of the binary tree (left child = parent + 1).
   {

@@ -21,10 +21,11 @@ class TriangleBvh {
   // allowed and handled as segments/points). Throws InputError on a face
   // index outside [0, #V).
   explicit TriangleBvh(const Mesh& mesh);
-  // `oriented_boxes` false: axis-aligned boxes only. The build is about a
-  // third cheaper and each query somewhat dearer (far queries open more
-  // nodes); the answers are the same (exact, ties to the lowest face index).
-  // For meshes that are queried a few thousand times (fine-tuning's surfaces).
+  // `oriented_boxes` false: the cheap build, for meshes queried a few times
+  // per triangle (fine-tuning's surfaces): axis-aligned boxes only and a
+  // Morton-order split instead of the binned SAH (a 118k-face mesh: 0.05 s
+  // against 0.14 s at 2 threads, 30k random queries about as fast). The
+  // answers are the same (exact, ties to the lowest face index).
   TriangleBvh(const Mesh& mesh, bool oriented_boxes);
   ~TriangleBvh();
   TriangleBvh(TriangleBvh&&) noexcept;

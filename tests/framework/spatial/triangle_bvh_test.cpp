@@ -56,27 +56,31 @@ MatrixX3d RandomPoints(int n, double lo, double hi, std::uint64_t seed) {
 }
 
 // Every answer matches brute force; the returned point lies on the returned
-// face at the returned distance.
+// face at the returned distance. Both builds: the SAH one with oriented boxes
+// (the default) and the cheap Morton one (oriented_boxes false).
 void CheckAgainstBruteForce(const Mesh& m, const MatrixX3d& Q) {
-  const TriangleBvh bvh(m);
-  VectorXd d2;
-  MatrixX3d P;
-  Eigen::VectorXi F;
-  bvh.ClosestPoints(Q, &d2, &P, &F);
-  for (int i = 0; i < Q.rows(); ++i) {
-    const Vec3 q = Q.row(i);
-    const double ref = BruteSq(m, q);
-    // Relative 1e-12, or rounding-level when q lies on the surface.
-    const double tol = 1e-12 * ref + 1e-28 * (1.0 + q.squaredNorm());
-    ASSERT_NEAR(d2[i], ref, tol) << "query " << i;
-    ASSERT_GE(F[i], 0);
-    const Vec3 p = P.row(i);
-    EXPECT_NEAR((p - q).squaredNorm(), d2[i], tol);
-    const double on_face = RefTriSq(m.V.row(m.F(F[i], 0)), m.V.row(m.F(F[i], 1)), m.V.row(m.F(F[i], 2)), p);
-    EXPECT_LE(on_face, 1e-24 * (1.0 + p.squaredNorm()));
-    const TriangleBvh::Hit hit = bvh.Closest(q);
-    EXPECT_EQ(hit.sq_dist, d2[i]);
-    EXPECT_EQ(hit.face, F[i]);
+  for (const bool oriented : {true, false}) {
+    SCOPED_TRACE(oriented ? "SAH build, oriented boxes" : "Morton build, axis-aligned boxes");
+    const TriangleBvh bvh(m, oriented);
+    VectorXd d2;
+    MatrixX3d P;
+    Eigen::VectorXi F;
+    bvh.ClosestPoints(Q, &d2, &P, &F);
+    for (int i = 0; i < Q.rows(); ++i) {
+      const Vec3 q = Q.row(i);
+      const double ref = BruteSq(m, q);
+      // Relative 1e-12, or rounding-level when q lies on the surface.
+      const double tol = 1e-12 * ref + 1e-28 * (1.0 + q.squaredNorm());
+      ASSERT_NEAR(d2[i], ref, tol) << "query " << i;
+      ASSERT_GE(F[i], 0);
+      const Vec3 p = P.row(i);
+      EXPECT_NEAR((p - q).squaredNorm(), d2[i], tol);
+      const double on_face = RefTriSq(m.V.row(m.F(F[i], 0)), m.V.row(m.F(F[i], 1)), m.V.row(m.F(F[i], 2)), p);
+      EXPECT_LE(on_face, 1e-24 * (1.0 + p.squaredNorm()));
+      const TriangleBvh::Hit hit = bvh.Closest(q);
+      EXPECT_EQ(hit.sq_dist, d2[i]);
+      EXPECT_EQ(hit.face, F[i]);
+    }
   }
 }
 
@@ -231,11 +235,13 @@ TEST(TriangleBvh, CoincidentTrianglesAndPointsOnTheSurface) {
     Q.row(i) = (m.V.row(m.F(f, 0)) + m.V.row(m.F(f, 1)) + m.V.row(m.F(f, 2))) / 3.0;
   }
   CheckAgainstBruteForce(m, Q);
-  const TriangleBvh bvh(m);
-  // Ties: the copies are equidistant, the lowest face index wins.
-  const TriangleBvh::Hit hit = bvh.Closest(Vec3(2.2, 0.2, 0.2));
-  EXPECT_EQ(hit.face, s.NumFaces());
-  for (int i = 0; i < 30; ++i) EXPECT_EQ(bvh.Closest(Q.row(i)).sq_dist, 0.0);
+  for (const bool oriented : {true, false}) {
+    const TriangleBvh bvh(m, oriented);
+    // Ties: the copies are equidistant, the lowest face index wins.
+    const TriangleBvh::Hit hit = bvh.Closest(Vec3(2.2, 0.2, 0.2));
+    EXPECT_EQ(hit.face, s.NumFaces());
+    for (int i = 0; i < 30; ++i) EXPECT_EQ(bvh.Closest(Q.row(i)).sq_dist, 0.0);
+  }
 }
 
 TEST(TriangleBvh, HugeAndNanQueries) {
@@ -292,22 +298,28 @@ TEST(TriangleBvh, ExtremeFiniteCoordinatesStayInBounds) {
     m.V << x, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, x, x, x, -x, 0, -x;
     m.F.resize(5, 3);
     m.F << 0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2, 3, 4, 5;
-    const TriangleBvh bvh(m);
-    const auto hit = bvh.Closest(Vec3(0.25, 0.25, 0.25));
-    // Near DBL_MAX squared distances overflow: "nothing found" is allowed there.
-    if (std::abs(x) < 1e150) EXPECT_GE(hit.face, 0) << x;
-    EXPECT_GE(hit.face, -1) << x;
-    EXPECT_LT(hit.face, m.NumFaces()) << x;
-    // Many triangles sharing a subnormal-wide centroid spread.
-    Mesh many;
-    many.V.resize(3 * 64, 3);
-    many.F.resize(64, 3);
-    for (int f = 0; f < 64; ++f) {
-      for (int k = 0; k < 3; ++k) many.V.row(3 * f + k) = Vec3(f * (x * 1e-3), k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0);
-      many.F.row(f) << 3 * f, 3 * f + 1, 3 * f + 2;
+    for (const bool oriented : {true, false}) {
+      const TriangleBvh bvh(m, oriented);
+      const auto hit = bvh.Closest(Vec3(0.25, 0.25, 0.25));
+      // Near DBL_MAX squared distances overflow: "nothing found" is allowed there.
+      if (std::abs(x) < 1e150) {
+        EXPECT_GE(hit.face, 0) << x;
+      }
+      EXPECT_GE(hit.face, -1) << x;
+      EXPECT_LT(hit.face, m.NumFaces()) << x;
+      // Many triangles sharing a subnormal-wide centroid spread.
+      Mesh many;
+      many.V.resize(3 * 64, 3);
+      many.F.resize(64, 3);
+      for (int f = 0; f < 64; ++f) {
+        for (int k = 0; k < 3; ++k) many.V.row(3 * f + k) = Vec3(f * (x * 1e-3), k == 1 ? 1.0 : 0.0, k == 2 ? 1.0 : 0.0);
+        many.F.row(f) << 3 * f, 3 * f + 1, 3 * f + 2;
+      }
+      const TriangleBvh b2(many, oriented);
+      if (std::abs(x) < 1e150) {
+        EXPECT_GE(b2.Closest(Vec3(0, 0.5, 0.5)).face, 0) << x;
+      }
     }
-    const TriangleBvh b2(many);
-    if (std::abs(x) < 1e150) EXPECT_GE(b2.Closest(Vec3(0, 0.5, 0.5)).face, 0) << x;
   }
 }
 
