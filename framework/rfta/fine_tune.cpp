@@ -127,8 +127,11 @@ class MeshTuningSurface final : public TuningSurface {
   void ClosestPoints(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d* points) const override {
     bvh_->ClosestPoints(Q, sq_dist, points);
   }
-  double Closest(const Vec3& q, Vec3* point) const override {
-    const TriangleBvh::Hit h = bvh_->Closest(q);
+  double Closest(const Vec3& q, Vec3* point, double bound) const override {
+    // The bound, widened against rounding, prunes the search; should it
+    // still miss (it cannot by more than rounding), the unbounded query.
+    TriangleBvh::Hit h = bvh_->Closest(q, bound * (1.0 + 1e-9) + 1e-300);
+    if (h.face < 0) h = bvh_->Closest(q);
     *point = h.point;
     return h.sq_dist;
   }
@@ -148,7 +151,7 @@ class PolylineTuningSurface final : public TuningSurface {
   void ClosestPoints(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d* points) const override {
     bvh_->ClosestPoints(Q, sq_dist, points);
   }
-  double Closest(const Vec3& q, Vec3* point) const override {
+  double Closest(const Vec3& q, Vec3* point, double /*bound*/) const override {
     const SegmentBvh::Hit h = bvh_->Closest(q);
     *point = h.point;
     return h.sq_dist;
@@ -357,9 +360,10 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
               // Every existing point moves towards the projection of its own
               // closest surface point; ordered by distance to the surface.
               std::vector<std::pair<double, Vec3>> moved;
+              const Vec3 cpg = cp.row(g).transpose();  // on the surface: bounds each point's distance
               for (const Vec3& a : mine) {
                 Vec3 hp;
-                const double hd = surface.Closest(a, &hp);
+                const double hd = surface.Closest(a, &hp, (a - cpg).squaredNorm());
                 moved.emplace_back(hd, transport(a, project(hp)));
               }
               std::stable_sort(moved.begin(), moved.end(),

@@ -81,7 +81,9 @@ class TuningSurface {
   // Squared distances and closest points of every row of Q (outputs resized).
   virtual void ClosestPoints(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d* points) const = 0;
   // Squared distance to the closest point of one query, and that point.
-  virtual double Closest(const Vec3& q, Vec3* point) const = 0;
+  // `bound`: a squared distance the answer is known not to exceed (a search
+  // radius; the answer is the same); infinity when unknown.
+  virtual double Closest(const Vec3& q, Vec3* point, double bound) const = 0;
   // Generalised winding numbers of the rows of Q (> 0.5 = inside).
   virtual VectorXd WindingNumbers(const MatrixX3d& Q) const = 0;
 };
