@@ -1156,14 +1156,12 @@ Mesh Solver::Extract(double iso) {
   KeyMap emap[3];
   std::vector<Vec3> verts;
   std::vector<std::array<int, 3>> tris;
-  auto vertex = [&](int x, int y, int z, int axis) {
+  // The vertex on the edge from node (x, y, z) along `axis`, whose end
+  // values are g0 and g1 (the edge's own G values).
+  auto vertex = [&](int x, int y, int z, int axis, double g0, double g1) {
     const Key k = Pack(x, y, z);
     const int id = emap[axis].Find(k);
     if (id >= 0) return id;
-    int t[3] = {x, y, z};
-    const double g0 = G(x, y, z);
-    t[axis] += 1;
-    const double g1 = G(t[0], t[1], t[2]);
     const double f = g0 / (g0 - g1);
     Vec3 pos((x + 0.0) / res, (y + 0.0) / res, (z + 0.0) / res);
     pos[axis] += f / res;
@@ -1174,24 +1172,40 @@ Mesh Solver::Extract(double iso) {
   // Breadth-first, a round at a time: the cells of a round in the order a
   // first-in-first-out queue would give them, so the mesh is the same.
   std::vector<Key> round = std::move(seeds), next;
+  std::vector<std::array<double, 8>> round_g;
+  std::vector<int> round_config;
   while (!round.empty()) {
     prefetch(round);
     next.clear();
-    for (const Key cell : round) {
-      const int x = KX(cell), y = KY(cell), z = KZ(cell);
-      double cg[8];
-      int config = 0;
-      for (int q = 0; q < 8; ++q) {
-        cg[q] = G(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1));
-        if (cg[q] < 0) config |= 1 << q;
+    // The corner values (all known after the prefetch) and configurations
+    // of the round's cells, in parallel; then the serial pass that numbers
+    // vertices and queues neighbours in the queue's order.
+    round_g.resize(round.size());
+    round_config.resize(round.size());
+    ParallelFor(static_cast<std::int64_t>(round.size()), [&](std::int64_t b0, std::int64_t e0) {
+      for (std::int64_t i = b0; i < e0; ++i) {
+        const int x = KX(round[i]), y = KY(round[i]), z = KZ(round[i]);
+        int config = 0;
+        for (int q = 0; q < 8; ++q) {
+          const double v = gval[gmap.Find(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1)))];
+          round_g[i][q] = v;
+          if (v < 0) config |= 1 << q;
+        }
+        round_config[i] = config;
       }
+    }, 512);
+    for (std::size_t i = 0; i < round.size(); ++i) {
+      const Key cell = round[i];
+      const int x = KX(cell), y = KY(cell), z = KZ(cell);
+      const double* cg = round_g[i].data();
+      const int config = round_config[i];
       if (config == 0 || config == 255) continue;
       for (const auto& tri : detail::MarchingCubesCase(config)) {
         std::array<int, 3> f;
         for (int k = 0; k < 3; ++k) {
           const int e = tri[k];
-          const int c0 = detail::MarchingCubesEdgeCorner(e);
-          f[k] = vertex(x + (c0 & 1), y + ((c0 >> 1) & 1), z + ((c0 >> 2) & 1), e / 4);
+          const int c0 = detail::MarchingCubesEdgeCorner(e), axis = e / 4;
+          f[k] = vertex(x + (c0 & 1), y + ((c0 >> 1) & 1), z + ((c0 >> 2) & 1), axis, cg[c0], cg[c0 | (1 << axis)]);
         }
         tris.push_back(f);
       }
