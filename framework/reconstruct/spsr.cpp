@@ -556,10 +556,15 @@ Vec3 Solver::ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x,
   double wx[2], wy[2], wz[2];
   const int nx = Parents1D(x, cx, wx), ny = Parents1D(y, cy, wy), nz = Parents1D(z, cz, wz);
   Vec3 v = Vec3::Zero();
+  // The parents are the coarse node (cx[0], cy[0], cz[0]) and its +1
+  // neighbours: when that node is an unknown, its stencil row has their
+  // indices (the same the lookups give).
+  const int base = coarse.node_map.Find(Pack(cx[0], cy[0], cz[0]));
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
-        const int id = coarse.node_map.Find(Pack(cx[i], cy[j], cz[k]));
+        const int id = base >= 0 ? coarse.nbr[static_cast<std::size_t>(base) * 27 + (i + 1) + 3 * (j + 1) + 9 * (k + 1)]
+                                 : coarse.node_map.Find(Pack(cx[i], cy[j], cz[k]));
         if (id >= 0) v += wx[i] * wy[j] * wz[k] * vc[id];
       }
   return v;
@@ -651,10 +656,13 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
         for (std::int64_t i = b0; i < e0; ++i) {
           const int x = 2 * KX(L.nodes[i]), y = 2 * KY(L.nodes[i]), z = 2 * KZ(L.nodes[i]);
           double acc = 0;
+          // When (2x, 2y, 2z) is a finer unknown its stencil row lists the
+          // 27 finer neighbours (the same indices the lookups would give).
+          const int j0 = Fl.node_map.Find(Pack(x, y, z));
           for (int o = 0; o < 27; ++o) {
             const int a = x + Ox(o), bb = y + Oy(o), c = z + Oz(o);
             if (a < 0 || bb < 0 || c < 0 || a > Fl.res || bb > Fl.res || c > Fl.res) continue;
-            const int j = Fl.node_map.Find(Pack(a, bb, c));
+            const int j = j0 >= 0 ? Fl.nbr[static_cast<std::size_t>(j0) * 27 + o] : Fl.node_map.Find(Pack(a, bb, c));
             if (j < 0) continue;
             acc += w1[Ox(o) + 1] * w1[Oy(o) + 1] * w1[Oz(o) + 1] * fine_next[j];
           }
