@@ -1284,8 +1284,20 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
       // parallel, each block with its own memo of prolonged values (the same
       // bits as one serial memo).
       const std::int64_t nn = static_cast<std::int64_t>(L.nodes.size());
+      // The parents are the coarser node (x/2, y/2, z/2) rounded down and its
+      // +1 neighbours: when it is an unknown, its stencil row has their
+      // indices, and unknowns read U (what ValueWith returns for them).
+      const Level& C = At(d - 1);
       auto block_coarse = [&](Memo& memo, int x, int y, int z) {
-        return ParentSum<double>(x, y, z, [&](int a, int bb, int c) { return ValueWith(d - 1, Pack(a, bb, c), memo); });
+        const int base = C.node_map.Find(Pack(x >> 1, y >> 1, z >> 1));
+        return ParentSum<double>(x, y, z, [&](int a, int bb, int c) {
+          if (base >= 0) {
+            const int o = (a - (x >> 1) + 1) + 3 * (bb - (y >> 1) + 1) + 9 * (c - (z >> 1) + 1);
+            const int id = C.nbr[static_cast<std::size_t>(base) * 27 + o];
+            if (id >= 0) return C.U[id];
+          }
+          return ValueWith(d - 1, Pack(a, bb, c), memo);
+        });
       };
       ParallelFor(nn, [&](std::int64_t b0, std::int64_t e0) {
         Memo memo(lv_.size());
