@@ -482,11 +482,14 @@ void Solver::BuildTree() {
     KeyMap& set = At(d).cell_set;
     set.Reserve(static_cast<std::size_t>(n) * 8);
     const int res = 1 << d;
+    int last[3] = {-1, -1, -1};  // consecutive samples often share a cell: its 27 are in already
     for (int s = 0; s < n; ++s) {
       if (std::ceil(depth_[s] - 1e-9) < d) continue;
       int c[3];
       double w[8];
       CellOf(p_[s], res, c, w);
+      if (c[0] == last[0] && c[1] == last[1] && c[2] == last[2]) continue;
+      last[0] = c[0], last[1] = c[1], last[2] = c[2];
       for (int dz = -1; dz <= 1; ++dz)
         for (int dy = -1; dy <= 1; ++dy)
           for (int dx = -1; dx <= 1; ++dx) {
