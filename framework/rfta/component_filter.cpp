@@ -3,6 +3,7 @@
 #include "framework/rfta/sphere_set.h"
 #include "framework/rfta/sphere_tree.h"
 #include "framework/spatial/topology.h"
+#include "framework/spatial/triangle_bvh.h"
 #include "framework/util/parallel.h"
 
 #include <algorithm>
@@ -45,13 +46,50 @@ ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samp
   }
   for (int f = 0; f < nf; ++f) ++nfaces[face_comp[f]];
   const int largest = static_cast<int>(std::max_element(nfaces.begin(), nfaces.end()) - nfaces.begin());
+  std::vector<int> candidates;
+  for (int c = 0; c < nc; ++c)
+    if (c != largest && ninside[c] > max_inside_fraction * nverts[c]) candidates.push_back(c);
+  if (candidates.empty()) return st;
+  // The samples' verdict on each candidate: its removal must not worsen the
+  // fit of the samples, sum_i (|s_i| - dist(p_i, surface))^2 (the paper's
+  // E_SDF terms). Only samples whose closest face is in the candidate change
+  // distance. A surface part slightly fatter than the samples allow (a thin
+  // feature at a coarse grid) has most vertices inside spheres yet is the
+  // only surface near its samples: removing it would leave them far from
+  // any surface, so it stays; a bubble inside the free space fits no sample
+  // better than the surface beyond it, so it goes.
+  VectorXd sq;
+  Eigen::VectorXi closest_face;
+  const TriangleBvh whole(*mesh, /*oriented_boxes=*/false);
+  whole.ClosestPoints(centers, &sq, nullptr, &closest_face);
   std::vector<char> drop(nc, 0);
-  for (int c = 0; c < nc; ++c) {
-    if (c == largest) continue;
-    if (ninside[c] > max_inside_fraction * nverts[c]) {
+  for (int c : candidates) {
+    std::vector<int> near;
+    for (Eigen::Index i = 0; i < centers.rows(); ++i)
+      if (closest_face[i] >= 0 && face_comp[closest_face[i]] == c) near.push_back(static_cast<int>(i));
+    double delta = 0.0;
+    if (!near.empty()) {
+      Mesh rest;
+      rest.V = mesh->V;
+      rest.F.resize(nf - nfaces[c], 3);
+      for (int f = 0, k = 0; f < nf; ++f)
+        if (face_comp[f] != c) rest.F.row(k++) = mesh->F.row(f);
+      MatrixX3d q(static_cast<Eigen::Index>(near.size()), 3);
+      for (std::size_t j = 0; j < near.size(); ++j) q.row(static_cast<Eigen::Index>(j)) = centers.row(near[j]);
+      VectorXd sq_rest;
+      TriangleBvh(rest, /*oriented_boxes=*/false).ClosestPoints(q, &sq_rest);
+      for (std::size_t j = 0; j < near.size(); ++j) {
+        const double r = radii[near[j]];
+        const double with = r - std::sqrt(sq[near[j]]), without = r - std::sqrt(sq_rest[static_cast<Eigen::Index>(j)]);
+        delta += without * without - with * with;
+      }
+    }
+    if (delta <= 0.0) {
       drop[c] = 1;
       ++st.dropped;
       st.dropped_faces += nfaces[c];
+    } else {
+      ++st.kept_by_fit;
     }
   }
   if (st.dropped == 0) return st;

@@ -143,6 +143,9 @@ RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options
       ctx.Info("rfta: dropped " + std::to_string(r.components.dropped) + " of " +
                std::to_string(r.components.components) +
                " components lying mostly inside the samples' spheres");
+    if (r.components.kept_by_fit > 0)
+      ctx.Info("rfta: kept " + std::to_string(r.components.kept_by_fit) +
+               " components lying mostly inside the samples' spheres: removing them worsened the samples' fit");
   }
   r.final_s = Since(t0);
   after(RftaPart::kFinal);

@@ -134,8 +134,10 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
   RftaResult r = ReachForTheArcs(samples, options, parts, ctx);
   if (dim == 2) d.output_curve = std::get<Polyline>(std::move(r.surface));
   else d.output = std::get<Mesh>(std::move(r.surface));
-  if (dim == 3 && options.drop_infeasible_components)
+  if (dim == 3 && options.drop_infeasible_components) {
     d.SetMetric("rfta_dropped_components", static_cast<double>(r.components.dropped));
+    d.SetMetric("rfta_kept_components_by_fit", static_cast<double>(r.components.kept_by_fit));
+  }
   d.SetMetric("rfta_final_s", r.final_s);
 }
 
