@@ -113,6 +113,45 @@ class KeyMap {
   std::size_t mask_ = 0, size_ = 0;
 };
 
+// Values at grid nodes, in bricks of 8^3 nodes found by a hash of the
+// brick's key: a lookup probes a small table, then memory next to the
+// neighbours' (marching cubes asks for the nodes around a surface, and
+// each node's face neighbours), where one map of every node probes a table
+// as large as all of them.
+template <class T>
+class NodeCache {
+ public:
+  // Index of node k's value in `val`, or -1 when it is not known.
+  std::int64_t Find(Key k) const {
+    const int b = bricks_.Find(BrickKey(k));
+    if (b < 0) return -1;
+    const std::int64_t i = static_cast<std::int64_t>(b) * kCount + Local(k);
+    return known_[static_cast<std::size_t>(i)] ? i : -1;
+  }
+  void Set(Key k, T v) {
+    const Key bk = BrickKey(k);
+    int b = bricks_.Find(bk);
+    if (b < 0) {
+      b = bricks_.Insert(bk, static_cast<int>(val.size() / kCount));
+      val.resize(val.size() + kCount, T{});
+      known_.resize(known_.size() + kCount, 0);
+    }
+    const std::size_t i = static_cast<std::size_t>(b) * kCount + static_cast<std::size_t>(Local(k));
+    val[i] = v;
+    known_[i] = 1;
+  }
+  std::vector<T> val;
+
+ private:
+  static constexpr int kShift = 3, kCount = 1 << (3 * kShift), kLow = (1 << kShift) - 1;
+  static Key BrickKey(Key k) { return Pack(KX(k) >> kShift, KY(k) >> kShift, KZ(k) >> kShift); }
+  static int Local(Key k) {
+    return (KX(k) & kLow) | ((KY(k) & kLow) << kShift) | ((KZ(k) & kLow) << (2 * kShift));
+  }
+  KeyMap bricks_;
+  std::vector<unsigned char> known_;
+};
+
 // 1D integrals of degree-1 tents on the level's grid (nodes 0..res, h = 1/res),
 // cut at the cube's faces (Neumann): mass M, stiffness S (∫B_a' B_b'),
 // derivative-value D (∫B_a' B_b), for b = a + o, o in {-1, 0, 1}.
@@ -937,15 +976,13 @@ Mesh Solver::Extract(double iso) {
   // a closed component of 8 triangles; stray tuning points inside a solid
   // made such voids), so with remove_node_islands it takes the mean of
   // those neighbours.
-  KeyMap rmap, gmap;
-  std::vector<double> rval, gval;
+  NodeCache<double> rmap, gmap;
   auto R = [&](int x, int y, int z) {
     const Key k = Pack(x, y, z);
-    const int id = rmap.Find(k);
-    if (id >= 0) return rval[id];
+    const std::int64_t id = rmap.Find(k);
+    if (id >= 0) return rmap.val[static_cast<std::size_t>(id)];
     const double v = g(x, y, z);
-    rmap.Insert(k, static_cast<int>(rval.size()));
-    rval.push_back(v);
+    rmap.Set(k, v);
     return v;
   };
   // The value marching cubes sees at node (x, y, z) from the raw values
@@ -978,13 +1015,12 @@ Mesh Solver::Extract(double iso) {
   };
   auto G = [&](int x, int y, int z) {
     const Key k = Pack(x, y, z);
-    const int id = gmap.Find(k);
-    if (id >= 0) return gval[id];
+    const std::int64_t id = gmap.Find(k);
+    if (id >= 0) return gmap.val[static_cast<std::size_t>(id)];
     bool island;
     const double v = seen(x, y, z, R, &island);
     islands_ += island;
-    gmap.Insert(k, static_cast<int>(gval.size()));
-    gval.push_back(v);
+    gmap.Set(k, v);
     return v;
   };
   // The values a round of cells needs, computed in parallel before the round
@@ -1003,8 +1039,7 @@ Mesh Solver::Extract(double iso) {
         val[i] = iso - ValueWith(Lmax_, Pack(KX(need[i]) << up, KY(need[i]) << up, KZ(need[i]) << up), memo);
     }, 512);
     for (std::size_t i = 0; i < need.size(); ++i) {
-      rmap.Insert(need[i], static_cast<int>(rval.size()));
-      rval.push_back(val[i]);
+      rmap.Set(need[i], val[i]);
     }
   };
   static const int kFaceNb[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
@@ -1044,17 +1079,17 @@ Mesh Solver::Extract(double iso) {
         std::vector<Key> pairs = gather(static_cast<std::int64_t>(pending.size()), [&](std::int64_t i, std::vector<Key>& out) {
           const Key k = pending[i];
           const int x = KX(k), y = KY(k), z = KZ(k);
-          const bool neg = rval[rmap.Find(k)] < 0;
+          const bool neg = rmap.val[static_cast<std::size_t>(rmap.Find(k))] < 0;
           for (const auto& o : kFaceNb) {
             const int a = x + o[0], b = y + o[1], c = z + o[2];
             if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) return;  // never an island
-            const int id = rmap.Find(Pack(a, b, c));
+            const std::int64_t id = rmap.Find(Pack(a, b, c));
             if (id < 0) {
               out.push_back(k);
               out.push_back(Pack(a, b, c));
               return;
             }
-            if ((rval[id] < 0) == neg) return;  // not an island
+            if ((rmap.val[static_cast<std::size_t>(id)] < 0) == neg) return;  // not an island
           }
         });
         need.clear();
@@ -1073,16 +1108,16 @@ Mesh Solver::Extract(double iso) {
     // six are known and on the other side, and it takes their mean (summed
     // in `seen`'s order: the same bits).
     auto value_seen = [&](int x, int y, int z, bool* island) {
-      const double v = rval[rmap.Find(Pack(x, y, z))];
+      const double v = rmap.val[static_cast<std::size_t>(rmap.Find(Pack(x, y, z)))];
       *island = false;
       if (!o_.remove_node_islands) return v;
       double u[6];
       for (int j = 0; j < 6; ++j) {
         const int a = x + kFaceNb[j][0], b = y + kFaceNb[j][1], c = z + kFaceNb[j][2];
         if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) return v;
-        const int id = rmap.Find(Pack(a, b, c));
+        const std::int64_t id = rmap.Find(Pack(a, b, c));
         if (id < 0) return v;  // only a settled corner leaves a neighbour unknown
-        u[j] = rval[id];
+        u[j] = rmap.val[static_cast<std::size_t>(id)];
         if ((u[j] < 0) == (v < 0)) return v;
       }
       double mean = 0;
@@ -1099,8 +1134,7 @@ Mesh Solver::Extract(double iso) {
     }, 1024);
     for (std::size_t i = 0; i < gneed.size(); ++i) {
       islands_ += isl[i];
-      gmap.Insert(gneed[i], static_cast<int>(gval.size()));
-      gval.push_back(gv[i]);
+      gmap.Set(gneed[i], gv[i]);
     }
   };
   auto prefetch = [&](const std::vector<Key>& cells) {
@@ -1162,21 +1196,21 @@ Mesh Solver::Extract(double iso) {
   }
   std::sort(seeds.begin(), seeds.end());
   seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
-  KeyMap visited;
-  for (Key s : seeds) visited.Insert(s, 0);
-  KeyMap emap[3];
+  NodeCache<char> visited;
+  for (Key s : seeds) visited.Set(s, 1);
+  NodeCache<int> emap[3];
   std::vector<Vec3> verts;
   std::vector<std::array<int, 3>> tris;
   // The vertex on the edge from node (x, y, z) along `axis`, whose end
   // values are g0 and g1 (the edge's own G values).
   auto vertex = [&](int x, int y, int z, int axis, double g0, double g1) {
     const Key k = Pack(x, y, z);
-    const int id = emap[axis].Find(k);
-    if (id >= 0) return id;
+    const std::int64_t id = emap[axis].Find(k);
+    if (id >= 0) return emap[axis].val[static_cast<std::size_t>(id)];
     const double f = g0 / (g0 - g1);
     Vec3 pos((x + 0.0) / res, (y + 0.0) / res, (z + 0.0) / res);
     pos[axis] += f / res;
-    emap[axis].Insert(k, static_cast<int>(verts.size()));
+    emap[axis].Set(k, static_cast<int>(verts.size()));
     verts.push_back(pos);
     return static_cast<int>(verts.size()) - 1;
   };
@@ -1198,7 +1232,7 @@ Mesh Solver::Extract(double iso) {
         const int x = KX(round[i]), y = KY(round[i]), z = KZ(round[i]);
         int config = 0;
         for (int q = 0; q < 8; ++q) {
-          const double v = gval[gmap.Find(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1)))];
+          const double v = gmap.val[static_cast<std::size_t>(gmap.Find(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1))))];
           round_g[i][q] = v;
           if (v < 0) config |= 1 << q;
         }
@@ -1234,7 +1268,7 @@ Mesh Solver::Extract(double iso) {
           if (nc[a] < 0 || nc[a] >= res) continue;
           const Key nk = Pack(nc[0], nc[1], nc[2]);
           if (visited.Find(nk) >= 0) continue;
-          visited.Insert(nk, 0);
+          visited.Set(nk, 1);
           next.push_back(nk);
         }
     }
