@@ -117,39 +117,78 @@ class KeyMap {
 // brick's key: a lookup probes a small table, then memory next to the
 // neighbours' (marching cubes asks for the nodes around a surface, and
 // each node's face neighbours), where one map of every node probes a table
-// as large as all of them.
+// as large as all of them. Optionally the nodes of a coarser lattice (every
+// 2^lattice_shift-th node, lattice_n per side: the complete level's, which
+// the extraction reads everywhere) are held in a dense grid, so that they do
+// not make a brick each.
 template <class T>
 class NodeCache {
  public:
+  NodeCache() = default;
+  NodeCache(int lattice_shift, int lattice_n)
+      : shift_(lattice_shift), n_(lattice_n),
+        dense_(static_cast<std::size_t>(lattice_n) * lattice_n * lattice_n) {
+    val.assign(dense_, T{});
+    known_.assign(dense_, 0);
+  }
   // Index of node k's value in `val`, or -1 when it is not known.
   std::int64_t Find(Key k) const {
-    const int b = bricks_.Find(BrickKey(k));
-    if (b < 0) return -1;
-    const std::int64_t i = static_cast<std::int64_t>(b) * kCount + Local(k);
-    return known_[static_cast<std::size_t>(i)] ? i : -1;
+    const std::int64_t i = Slot(k);
+    return i >= 0 && known_[static_cast<std::size_t>(i)] ? i : -1;
   }
   void Set(Key k, T v) {
-    const Key bk = BrickKey(k);
-    int b = bricks_.Find(bk);
-    if (b < 0) {
-      b = bricks_.Insert(bk, static_cast<int>(val.size() / kCount));
+    std::int64_t i = Slot(k);
+    if (i < 0) {
+      const int b = bricks_.Insert(BrickKey(k), static_cast<int>((val.size() - dense_) / kCount));
       val.resize(val.size() + kCount, T{});
       known_.resize(known_.size() + kCount, 0);
+      i = static_cast<std::int64_t>(dense_) + static_cast<std::int64_t>(b) * kCount + Local(k);
     }
-    const std::size_t i = static_cast<std::size_t>(b) * kCount + static_cast<std::size_t>(Local(k));
-    val[i] = v;
-    known_[i] = 1;
+    val[static_cast<std::size_t>(i)] = v;
+    known_[static_cast<std::size_t>(i)] = 1;
   }
   std::vector<T> val;
 
  private:
-  static constexpr int kShift = 3, kCount = 1 << (3 * kShift), kLow = (1 << kShift) - 1;
+  static constexpr int kShift = 2, kCount = 1 << (3 * kShift), kLow = (1 << kShift) - 1;
   static Key BrickKey(Key k) { return Pack(KX(k) >> kShift, KY(k) >> kShift, KZ(k) >> kShift); }
   static int Local(Key k) {
     return (KX(k) & kLow) | ((KY(k) & kLow) << kShift) | ((KZ(k) & kLow) << (2 * kShift));
   }
+  // The slot of node k, or -1 when its brick does not exist.
+  std::int64_t Slot(Key k) const {
+    const int x = KX(k), y = KY(k), z = KZ(k);
+    if (shift_ >= 0 && ((x | y | z) & ((1 << shift_) - 1)) == 0) {
+      const std::int64_t a = x >> shift_, b = y >> shift_, c = z >> shift_;
+      if (a < n_ && b < n_ && c < n_) return a + n_ * (b + n_ * c);
+    }
+    const int b = bricks_.Find(BrickKey(k));
+    if (b < 0) return -1;
+    return static_cast<std::int64_t>(dense_) + static_cast<std::int64_t>(b) * kCount + Local(k);
+  }
+  int shift_ = -1, n_ = 0;
+  std::size_t dense_ = 0;
   KeyMap bricks_;
   std::vector<unsigned char> known_;
+};
+
+// Key -> position in a sorted key list, in bricks (NodeCache): the octree
+// levels' node indices, which every stencil, prolongation and value lookup
+// reads.
+class BrickIndex {
+ public:
+  static BrickIndex IndexOf(const std::vector<Key>& sorted) {
+    BrickIndex m;
+    for (std::size_t i = 0; i < sorted.size(); ++i) m.c_.Set(sorted[i], static_cast<int>(i));
+    return m;
+  }
+  int Find(Key k) const {
+    const std::int64_t i = c_.Find(k);
+    return i < 0 ? -1 : c_.val[static_cast<std::size_t>(i)];
+  }
+
+ private:
+  NodeCache<int> c_;
 };
 
 // 1D integrals of degree-1 tents on the level's grid (nodes 0..res, h = 1/res),
@@ -185,7 +224,7 @@ struct Level {
   double h = 0;
   Tent1D tent{};
   std::vector<Key> nodes;  // sorted unknowns (corners of existing cells)
-  KeyMap node_map;
+  BrickIndex node_map;
   KeyMap cell_set;         // existing cells
   std::vector<int> nbr;    // 27 per node: index of the neighbour unknown or -1
   std::vector<unsigned char> on_face;  // node touches the cube's boundary
@@ -491,7 +530,7 @@ void Solver::BuildLevel(Level& L, const std::vector<Key>& cells, bool complete) 
     }
     L.nodes = set.SortedKeys();
   }
-  L.node_map = KeyMap::IndexOf(L.nodes);
+  L.node_map = BrickIndex::IndexOf(L.nodes);
   const std::size_t nn = L.nodes.size();
   L.nbr.assign(nn * 27, -1);
   L.on_face.assign(nn, 0);
@@ -976,7 +1015,9 @@ Mesh Solver::Extract(double iso) {
   // a closed component of 8 triangles; stray tuning points inside a solid
   // made such voids), so with remove_node_islands it takes the mean of
   // those neighbours.
-  NodeCache<double> rmap, gmap;
+  // The complete level's nodes on a dense lattice (the seed search below
+  // reads all of them), the rest in bricks.
+  NodeCache<double> rmap(L - F_, (1 << F_) + 1), gmap(L - F_, (1 << F_) + 1);
   auto R = [&](int x, int y, int z) {
     const Key k = Pack(x, y, z);
     const std::int64_t id = rmap.Find(k);
