@@ -148,6 +148,24 @@ class NodeCache {
     known_[static_cast<std::size_t>(i)] = 1;
   }
   std::vector<T> val;
+  // Every known key, sorted.
+  std::vector<Key> SortedKeys() const {
+    std::vector<Key> out;
+    for (std::size_t i = 0; i < dense_; ++i)
+      if (known_[i]) {
+        const int a = static_cast<int>(i % n_), b = static_cast<int>((i / n_) % n_), c = static_cast<int>(i / n_ / n_);
+        out.push_back(Pack(a << shift_, b << shift_, c << shift_));
+      }
+    for (Key bk : bricks_.SortedKeys()) {
+      const std::size_t base = dense_ + static_cast<std::size_t>(bricks_.Find(bk)) * kCount;
+      const int x0 = KX(bk) << kShift, y0 = KY(bk) << kShift, z0 = KZ(bk) << kShift;
+      for (int l = 0; l < kCount; ++l)
+        if (known_[base + l])
+          out.push_back(Pack(x0 + (l & kLow), y0 + ((l >> kShift) & kLow), z0 + (l >> (2 * kShift))));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  }
 
  private:
   static constexpr int kShift = 2, kCount = 1 << (3 * kShift), kLow = (1 << kShift) - 1;
@@ -191,6 +209,19 @@ class BrickIndex {
   NodeCache<int> c_;
 };
 
+// A set of keys in bricks (NodeCache) with the calls the octree build makes
+// of a KeyMap used as a set: its levels' cells and their corners.
+class BrickSet {
+ public:
+  void Reserve(std::size_t) {}
+  void Insert(Key k, int) { c_.Set(k, 1); }
+  int Find(Key k) const { return c_.Find(k) >= 0 ? 0 : -1; }
+  std::vector<Key> SortedKeys() const { return c_.SortedKeys(); }
+
+ private:
+  NodeCache<char> c_;
+};
+
 // 1D integrals of degree-1 tents on the level's grid (nodes 0..res, h = 1/res),
 // cut at the cube's faces (Neumann): mass M, stiffness S (∫B_a' B_b'),
 // derivative-value D (∫B_a' B_b), for b = a + o, o in {-1, 0, 1}.
@@ -225,7 +256,7 @@ struct Level {
   Tent1D tent{};
   std::vector<Key> nodes;  // sorted unknowns (corners of existing cells)
   BrickIndex node_map;
-  KeyMap cell_set;         // existing cells
+  BrickSet cell_set;       // existing cells
   std::vector<int> nbr;    // 27 per node: index of the neighbour unknown or -1
   std::vector<unsigned char> on_face;  // node touches the cube's boundary
   // Samples whose cell exists at this level: index, corner unknowns, weights.
@@ -522,8 +553,7 @@ void Solver::BuildLevel(Level& L, const std::vector<Key>& cells, bool complete) 
         for (int x = 0; x <= L.res; ++x) L.nodes.push_back(Pack(x, y, z));
     std::sort(L.nodes.begin(), L.nodes.end());
   } else {
-    KeyMap set;
-    set.Reserve(cells.size() * 2);
+    BrickSet set;
     for (Key c : cells) {
       const int x = KX(c), y = KY(c), z = KZ(c);
       for (int q = 0; q < 8; ++q) set.Insert(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1)), 0);
@@ -557,7 +587,7 @@ void Solver::BuildTree() {
   for (int d = F_; d <= Lmax_; ++d) At(d).d = d;
   // Cells around every sample up to its depth.
   for (int d = F_ + 1; d <= Lmax_; ++d) {
-    KeyMap& set = At(d).cell_set;
+    BrickSet& set = At(d).cell_set;
     set.Reserve(static_cast<std::size_t>(n) * 8);
     const int res = 1 << d;
     int last[3] = {-1, -1, -1};  // consecutive samples often share a cell: its 27 are in already
@@ -580,7 +610,7 @@ void Solver::BuildTree() {
   // Grading: a cell's parent's neighbours exist.
   for (int d = Lmax_; d >= F_ + 2; --d) {
     const std::vector<Key> cells = At(d).cell_set.SortedKeys();
-    KeyMap& up = At(d - 1).cell_set;
+    BrickSet& up = At(d - 1).cell_set;
     const int res = 1 << (d - 1);
     Key last = ~Key(0);
     for (Key c : cells) {
