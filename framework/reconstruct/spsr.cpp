@@ -75,13 +75,6 @@ class KeyMap {
     std::sort(out.begin(), out.end());
     return out;
   }
-  // Key -> position in `sorted`.
-  static KeyMap IndexOf(const std::vector<Key>& sorted) {
-    KeyMap m;
-    m.Rehash(sorted.size() * 2 + 16);
-    for (std::size_t i = 0; i < sorted.size(); ++i) m.Insert(sorted[i], static_cast<int>(i));
-    return m;
-  }
 
  private:
   static constexpr Key kEmpty = ~Key(0);
@@ -113,8 +106,8 @@ class KeyMap {
   std::size_t mask_ = 0, size_ = 0;
 };
 
-// Values at grid nodes, in bricks of 8^3 nodes found by a hash of the
-// brick's key: a lookup probes a small table, then memory next to the
+// Values at grid nodes, in bricks of 4^3 nodes found by a hash of the
+// brick's key (8^3 wasted memory: one brick per isolated node): a lookup probes a small table, then memory next to the
 // neighbours' (marching cubes asks for the nodes around a surface, and
 // each node's face neighbours), where one map of every node probes a table
 // as large as all of them. Optionally the nodes of a coarser lattice (every
@@ -128,26 +121,25 @@ class NodeCache {
   NodeCache(int lattice_shift, int lattice_n)
       : shift_(lattice_shift), n_(lattice_n),
         dense_(static_cast<std::size_t>(lattice_n) * lattice_n * lattice_n) {
-    val.assign(dense_, T{});
+    val_.assign(dense_, T{});
     known_.assign(dense_, 0);
   }
-  // Index of node k's value in `val`, or -1 when it is not known.
-  std::int64_t Find(Key k) const {
+  // Node k's value, or null when it is not known.
+  const T* Lookup(Key k) const {
     const std::int64_t i = Slot(k);
-    return i >= 0 && known_[static_cast<std::size_t>(i)] ? i : -1;
+    return i >= 0 && known_[static_cast<std::size_t>(i)] ? &val_[static_cast<std::size_t>(i)] : nullptr;
   }
   void Set(Key k, T v) {
     std::int64_t i = Slot(k);
     if (i < 0) {
-      const int b = bricks_.Insert(BrickKey(k), static_cast<int>((val.size() - dense_) / kCount));
-      val.resize(val.size() + kCount, T{});
+      const int b = bricks_.Insert(BrickKey(k), static_cast<int>((val_.size() - dense_) / kCount));
+      val_.resize(val_.size() + kCount, T{});
       known_.resize(known_.size() + kCount, 0);
       i = static_cast<std::int64_t>(dense_) + static_cast<std::int64_t>(b) * kCount + Local(k);
     }
-    val[static_cast<std::size_t>(i)] = v;
+    val_[static_cast<std::size_t>(i)] = v;
     known_[static_cast<std::size_t>(i)] = 1;
   }
-  std::vector<T> val;
   // Every known key, sorted.
   std::vector<Key> SortedKeys() const {
     std::vector<Key> out;
@@ -187,6 +179,7 @@ class NodeCache {
   int shift_ = -1, n_ = 0;
   std::size_t dense_ = 0;
   KeyMap bricks_;
+  std::vector<T> val_;
   std::vector<unsigned char> known_;
 };
 
@@ -201,21 +194,20 @@ class BrickIndex {
     return m;
   }
   int Find(Key k) const {
-    const std::int64_t i = c_.Find(k);
-    return i < 0 ? -1 : c_.val[static_cast<std::size_t>(i)];
+    const int* i = c_.Lookup(k);
+    return i ? *i : -1;
   }
 
  private:
   NodeCache<int> c_;
 };
 
-// A set of keys in bricks (NodeCache) with the calls the octree build makes
-// of a KeyMap used as a set: its levels' cells and their corners.
+// A set of keys in bricks (NodeCache): the octree levels' cells and their
+// corners.
 class BrickSet {
  public:
-  void Reserve(std::size_t) {}
-  void Insert(Key k, int) { c_.Set(k, 1); }
-  int Find(Key k) const { return c_.Find(k) >= 0 ? 0 : -1; }
+  void Insert(Key k) { c_.Set(k, 1); }
+  bool Contains(Key k) const { return c_.Lookup(k) != nullptr; }
   std::vector<Key> SortedKeys() const { return c_.SortedKeys(); }
 
  private:
@@ -556,7 +548,7 @@ void Solver::BuildLevel(Level& L, const std::vector<Key>& cells, bool complete) 
     BrickSet set;
     for (Key c : cells) {
       const int x = KX(c), y = KY(c), z = KZ(c);
-      for (int q = 0; q < 8; ++q) set.Insert(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1)), 0);
+      for (int q = 0; q < 8; ++q) set.Insert(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1)));
     }
     L.nodes = set.SortedKeys();
   }
@@ -588,7 +580,6 @@ void Solver::BuildTree() {
   // Cells around every sample up to its depth.
   for (int d = F_ + 1; d <= Lmax_; ++d) {
     BrickSet& set = At(d).cell_set;
-    set.Reserve(static_cast<std::size_t>(n) * 8);
     const int res = 1 << d;
     int last[3] = {-1, -1, -1};  // consecutive samples often share a cell: its 27 are in already
     for (int s = 0; s < n; ++s) {
@@ -603,7 +594,7 @@ void Solver::BuildTree() {
           for (int dx = -1; dx <= 1; ++dx) {
             const int a = c[0] + dx, b = c[1] + dy, e = c[2] + dz;
             if (a < 0 || b < 0 || e < 0 || a >= res || b >= res || e >= res) continue;
-            set.Insert(Pack(a, b, e), 0);
+            set.Insert(Pack(a, b, e));
           }
     }
   }
@@ -623,7 +614,7 @@ void Solver::BuildTree() {
           for (int dx = -1; dx <= 1; ++dx) {
             const int a = px + dx, b = py + dy, e = pz + dz;
             if (a < 0 || b < 0 || e < 0 || a >= res || b >= res || e >= res) continue;
-            up.Insert(Pack(a, b, e), 0);
+            up.Insert(Pack(a, b, e));
           }
     }
   }
@@ -632,10 +623,9 @@ void Solver::BuildTree() {
     if (d == F_) {
       BuildLevel(L, {}, true);
       const int res = 1 << d;
-      L.cell_set.Reserve(static_cast<std::size_t>(res) * res * res);
       for (int z = 0; z < res; ++z)
         for (int y = 0; y < res; ++y)
-          for (int x = 0; x < res; ++x) L.cell_set.Insert(Pack(x, y, z), 0);
+          for (int x = 0; x < res; ++x) L.cell_set.Insert(Pack(x, y, z));
     } else {
       BuildLevel(L, L.cell_set.SortedKeys(), false);
     }
@@ -648,7 +638,7 @@ void Solver::BuildTree() {
       int c[3];
       double w[8];
       CellOf(p_[s], L.res, c, w);
-      if (L.cell_set.Find(Pack(c[0], c[1], c[2])) < 0) continue;
+      if (!L.cell_set.Contains(Pack(c[0], c[1], c[2]))) continue;
       std::array<int, 8> cor;
       std::array<double, 8> ww;
       for (int q = 0; q < 8; ++q) {
@@ -1050,8 +1040,7 @@ Mesh Solver::Extract(double iso) {
   NodeCache<double> rmap(L - F_, (1 << F_) + 1), gmap(L - F_, (1 << F_) + 1);
   auto R = [&](int x, int y, int z) {
     const Key k = Pack(x, y, z);
-    const std::int64_t id = rmap.Find(k);
-    if (id >= 0) return rmap.val[static_cast<std::size_t>(id)];
+    if (const double* known = rmap.Lookup(k)) return *known;
     const double v = g(x, y, z);
     rmap.Set(k, v);
     return v;
@@ -1086,8 +1075,7 @@ Mesh Solver::Extract(double iso) {
   };
   auto G = [&](int x, int y, int z) {
     const Key k = Pack(x, y, z);
-    const std::int64_t id = gmap.Find(k);
-    if (id >= 0) return gmap.val[static_cast<std::size_t>(id)];
+    if (const double* known = gmap.Lookup(k)) return *known;
     bool island;
     const double v = seen(x, y, z, R, &island);
     islands_ += island;
@@ -1133,10 +1121,10 @@ Mesh Solver::Extract(double iso) {
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
     std::vector<Key> gneed = gather(static_cast<std::int64_t>(cand.size()), [&](std::int64_t i, std::vector<Key>& out) {
-      if (gmap.Find(cand[i]) < 0) out.push_back(cand[i]);
+      if (!gmap.Lookup(cand[i])) out.push_back(cand[i]);
     });
     std::vector<Key> need = gather(static_cast<std::int64_t>(gneed.size()), [&](std::int64_t i, std::vector<Key>& out) {
-      if (rmap.Find(gneed[i]) < 0) out.push_back(gneed[i]);
+      if (!rmap.Lookup(gneed[i])) out.push_back(gneed[i]);
     });
     eval_raw(need);
     if (o_.remove_node_islands) {
@@ -1150,17 +1138,17 @@ Mesh Solver::Extract(double iso) {
         std::vector<Key> pairs = gather(static_cast<std::int64_t>(pending.size()), [&](std::int64_t i, std::vector<Key>& out) {
           const Key k = pending[i];
           const int x = KX(k), y = KY(k), z = KZ(k);
-          const bool neg = rmap.val[static_cast<std::size_t>(rmap.Find(k))] < 0;
+          const bool neg = *rmap.Lookup(k) < 0;
           for (const auto& o : kFaceNb) {
             const int a = x + o[0], b = y + o[1], c = z + o[2];
             if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) return;  // never an island
-            const std::int64_t id = rmap.Find(Pack(a, b, c));
-            if (id < 0) {
+            const double* u = rmap.Lookup(Pack(a, b, c));
+            if (!u) {
               out.push_back(k);
               out.push_back(Pack(a, b, c));
               return;
             }
-            if ((rmap.val[static_cast<std::size_t>(id)] < 0) == neg) return;  // not an island
+            if ((*u < 0) == neg) return;  // not an island
           }
         });
         need.clear();
@@ -1179,16 +1167,16 @@ Mesh Solver::Extract(double iso) {
     // six are known and on the other side, and it takes their mean (summed
     // in `seen`'s order: the same bits).
     auto value_seen = [&](int x, int y, int z, bool* island) {
-      const double v = rmap.val[static_cast<std::size_t>(rmap.Find(Pack(x, y, z)))];
+      const double v = *rmap.Lookup(Pack(x, y, z));
       *island = false;
       if (!o_.remove_node_islands) return v;
       double u[6];
       for (int j = 0; j < 6; ++j) {
         const int a = x + kFaceNb[j][0], b = y + kFaceNb[j][1], c = z + kFaceNb[j][2];
         if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) return v;
-        const std::int64_t id = rmap.Find(Pack(a, b, c));
-        if (id < 0) return v;  // only a settled corner leaves a neighbour unknown
-        u[j] = rmap.val[static_cast<std::size_t>(id)];
+        const double* known = rmap.Lookup(Pack(a, b, c));
+        if (!known) return v;  // only a settled corner leaves a neighbour unknown
+        u[j] = *known;
         if ((u[j] < 0) == (v < 0)) return v;
       }
       double mean = 0;
@@ -1213,7 +1201,7 @@ Mesh Solver::Extract(double iso) {
       const int x = KX(cells[i]), y = KY(cells[i]), z = KZ(cells[i]);
       for (int q = 0; q < 8; ++q) {
         const Key k = Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1));
-        if (gmap.Find(k) < 0) out.push_back(k);
+        if (!gmap.Lookup(k)) out.push_back(k);
       }
     }));
   };
@@ -1276,8 +1264,7 @@ Mesh Solver::Extract(double iso) {
   // values are g0 and g1 (the edge's own G values).
   auto vertex = [&](int x, int y, int z, int axis, double g0, double g1) {
     const Key k = Pack(x, y, z);
-    const std::int64_t id = emap[axis].Find(k);
-    if (id >= 0) return emap[axis].val[static_cast<std::size_t>(id)];
+    if (const int* id = emap[axis].Lookup(k)) return *id;
     const double f = g0 / (g0 - g1);
     Vec3 pos((x + 0.0) / res, (y + 0.0) / res, (z + 0.0) / res);
     pos[axis] += f / res;
@@ -1303,7 +1290,7 @@ Mesh Solver::Extract(double iso) {
         const int x = KX(round[i]), y = KY(round[i]), z = KZ(round[i]);
         int config = 0;
         for (int q = 0; q < 8; ++q) {
-          const double v = gmap.val[static_cast<std::size_t>(gmap.Find(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1))))];
+          const double v = *gmap.Lookup(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1)));
           round_g[i][q] = v;
           if (v < 0) config |= 1 << q;
         }
@@ -1338,7 +1325,7 @@ Mesh Solver::Extract(double iso) {
           nc[a] += side ? 1 : -1;
           if (nc[a] < 0 || nc[a] >= res) continue;
           const Key nk = Pack(nc[0], nc[1], nc[2]);
-          if (visited.Find(nk) >= 0) continue;
+          if (visited.Lookup(nk)) continue;
           visited.Set(nk, 1);
           next.push_back(nk);
         }
