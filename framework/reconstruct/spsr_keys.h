@@ -1,0 +1,208 @@
+// Key containers for screened Poisson's octree (spsr.cpp): integer node and
+// cell coordinates packed into 64-bit keys, an open-addressing map from keys
+// to ints, and containers that hold keys in 4^3 bricks (values at nodes, an
+// index of a sorted key list, a set). Internal to framework/reconstruct: the
+// octree's levels, its extraction caches and its tests use them; nothing else
+// should.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace arcs::spsr_keys {
+
+using Key = std::uint64_t;
+constexpr int kBits = 21;
+constexpr Key kMask = (Key(1) << kBits) - 1;
+inline Key Pack(int x, int y, int z) {
+  return Key(x) | (Key(y) << kBits) | (Key(z) << (2 * kBits));
+}
+inline int KX(Key k) { return static_cast<int>(k & kMask); }
+inline int KY(Key k) { return static_cast<int>((k >> kBits) & kMask); }
+inline int KZ(Key k) { return static_cast<int>((k >> (2 * kBits)) & kMask); }
+
+// Open addressing (linear probing) from 64-bit keys to int.
+class KeyMap {
+ public:
+  KeyMap() { Init(16); }
+  void Reserve(std::size_t n) {
+    if (n * 2 > keys_.size()) Rehash(n * 2);
+  }
+  int Find(Key k) const {
+    std::size_t i = Mix(k) & mask_;
+    while (true) {
+      const Key q = keys_[i];
+      if (q == k) return vals_[i];
+      if (q == kEmpty) return -1;
+      i = (i + 1) & mask_;
+    }
+  }
+  // Inserts (k, v) unless k is present; returns the stored value.
+  int Insert(Key k, int v) {
+    if ((size_ + 1) * 2 > keys_.size()) Rehash(keys_.size() * 2);
+    std::size_t i = Mix(k) & mask_;
+    while (true) {
+      const Key q = keys_[i];
+      if (q == k) return vals_[i];
+      if (q == kEmpty) {
+        keys_[i] = k;
+        vals_[i] = v;
+        ++size_;
+        return v;
+      }
+      i = (i + 1) & mask_;
+    }
+  }
+  std::size_t size() const { return size_; }
+  std::vector<Key> SortedKeys() const {
+    std::vector<Key> out;
+    out.reserve(size_);
+    for (Key k : keys_)
+      if (k != kEmpty) out.push_back(k);
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+ private:
+  static constexpr Key kEmpty = ~Key(0);
+  static std::size_t Mix(Key k) {
+    k ^= k >> 31;
+    k *= 0x7fb5d329728ea185ULL;
+    k ^= k >> 27;
+    k *= 0x81dadef4bc2dd44dULL;
+    k ^= k >> 33;
+    return static_cast<std::size_t>(k);
+  }
+  void Init(std::size_t cap) {
+    std::size_t c = 16;
+    while (c < cap) c <<= 1;
+    keys_.assign(c, kEmpty);
+    vals_.assign(c, 0);
+    mask_ = c - 1;
+    size_ = 0;
+  }
+  void Rehash(std::size_t cap) {
+    std::vector<Key> ok = std::move(keys_);
+    std::vector<int> ov = std::move(vals_);
+    Init(cap);
+    for (std::size_t i = 0; i < ok.size(); ++i)
+      if (ok[i] != kEmpty) Insert(ok[i], ov[i]);
+  }
+  std::vector<Key> keys_;
+  std::vector<int> vals_;
+  std::size_t mask_ = 0, size_ = 0;
+};
+
+// Values at grid nodes, in bricks of 4^3 nodes found by a hash of the
+// brick's key (8^3 wasted memory: one brick per isolated node): a lookup
+// probes a small table, then memory next to the neighbours' (marching cubes
+// asks for the nodes around a surface, and each node's face neighbours),
+// where one map of every node probes a table as large as all of them.
+// Optionally the nodes of a coarser lattice (every 2^lattice_shift-th node,
+// lattice_n per side: the complete level's, which the extraction reads
+// everywhere) are held in a dense grid, so that they do not make a brick
+// each.
+template <class T>
+class NodeCache {
+ public:
+  NodeCache() = default;
+  NodeCache(int lattice_shift, int lattice_n)
+      : shift_(lattice_shift), n_(lattice_n),
+        dense_(static_cast<std::size_t>(lattice_n) * lattice_n * lattice_n) {
+    val_.assign(dense_, T{});
+    known_.assign(dense_, 0);
+  }
+  // Node k's value, or null when it is not known.
+  const T* Lookup(Key k) const {
+    const std::int64_t i = Slot(k);
+    return i >= 0 && known_[static_cast<std::size_t>(i)] ? &val_[static_cast<std::size_t>(i)] : nullptr;
+  }
+  void Set(Key k, T v) {
+    std::int64_t i = Slot(k);
+    if (i < 0) {
+      const int b = bricks_.Insert(BrickKey(k), static_cast<int>((val_.size() - dense_) / kCount));
+      val_.resize(val_.size() + kCount, T{});
+      known_.resize(known_.size() + kCount, 0);
+      i = static_cast<std::int64_t>(dense_) + static_cast<std::int64_t>(b) * kCount + Local(k);
+    }
+    val_[static_cast<std::size_t>(i)] = v;
+    known_[static_cast<std::size_t>(i)] = 1;
+  }
+  // Every known key, sorted.
+  std::vector<Key> SortedKeys() const {
+    std::vector<Key> out;
+    for (std::size_t i = 0; i < dense_; ++i)
+      if (known_[i]) {
+        const int a = static_cast<int>(i % n_), b = static_cast<int>((i / n_) % n_), c = static_cast<int>(i / n_ / n_);
+        out.push_back(Pack(a << shift_, b << shift_, c << shift_));
+      }
+    for (Key bk : bricks_.SortedKeys()) {
+      const std::size_t base = dense_ + static_cast<std::size_t>(bricks_.Find(bk)) * kCount;
+      const int x0 = KX(bk) << kShift, y0 = KY(bk) << kShift, z0 = KZ(bk) << kShift;
+      for (int l = 0; l < kCount; ++l)
+        if (known_[base + l])
+          out.push_back(Pack(x0 + (l & kLow), y0 + ((l >> kShift) & kLow), z0 + (l >> (2 * kShift))));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+  }
+
+ private:
+  static constexpr int kShift = 2, kCount = 1 << (3 * kShift), kLow = (1 << kShift) - 1;
+  static Key BrickKey(Key k) { return Pack(KX(k) >> kShift, KY(k) >> kShift, KZ(k) >> kShift); }
+  static int Local(Key k) {
+    return (KX(k) & kLow) | ((KY(k) & kLow) << kShift) | ((KZ(k) & kLow) << (2 * kShift));
+  }
+  // The slot of node k, or -1 when its brick does not exist.
+  std::int64_t Slot(Key k) const {
+    const int x = KX(k), y = KY(k), z = KZ(k);
+    if (shift_ >= 0 && ((x | y | z) & ((1 << shift_) - 1)) == 0) {
+      const std::int64_t a = x >> shift_, b = y >> shift_, c = z >> shift_;
+      if (a < n_ && b < n_ && c < n_) return a + n_ * (b + n_ * c);
+    }
+    const int b = bricks_.Find(BrickKey(k));
+    if (b < 0) return -1;
+    return static_cast<std::int64_t>(dense_) + static_cast<std::int64_t>(b) * kCount + Local(k);
+  }
+  int shift_ = -1, n_ = 0;
+  std::size_t dense_ = 0;
+  KeyMap bricks_;
+  std::vector<T> val_;
+  std::vector<unsigned char> known_;
+};
+
+// Key -> position in a sorted key list, in bricks (NodeCache): the octree
+// levels' node indices, which every stencil, prolongation and value lookup
+// reads.
+class BrickIndex {
+ public:
+  static BrickIndex IndexOf(const std::vector<Key>& sorted) {
+    BrickIndex m;
+    for (std::size_t i = 0; i < sorted.size(); ++i) m.c_.Set(sorted[i], static_cast<int>(i));
+    return m;
+  }
+  int Find(Key k) const {
+    const int* i = c_.Lookup(k);
+    return i ? *i : -1;
+  }
+
+ private:
+  NodeCache<int> c_;
+};
+
+// A set of keys in bricks (NodeCache): the octree levels' cells and their
+// corners.
+class BrickSet {
+ public:
+  void Insert(Key k) { c_.Set(k, 1); }
+  bool Contains(Key k) const { return c_.Lookup(k) != nullptr; }
+  std::vector<Key> SortedKeys() const { return c_.SortedKeys(); }
+
+ private:
+  NodeCache<char> c_;
+};
+
+}  // namespace arcs::spsr_keys

@@ -1,0 +1,119 @@
+// The screened Poisson octree's key containers (spsr_keys.h) against the
+// standard library's map and set on random keys: the same lookups, the same
+// sorted key lists, with and without the dense lattice.
+#include "framework/reconstruct/spsr_keys.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <set>
+
+namespace arcs::spsr_keys {
+namespace {
+
+// Keys clustered like an octree level's nodes (a few dense patches plus
+// scattered nodes), coordinates below 2^10.
+std::vector<Key> RandomKeys(std::mt19937* rng, int count) {
+  std::uniform_int_distribution<int> far(0, 1023), near(-6, 6), pick(0, 3);
+  std::vector<Key> out;
+  int cx = 512, cy = 512, cz = 512;
+  for (int i = 0; i < count; ++i) {
+    if (pick(*rng) == 0) cx = far(*rng), cy = far(*rng), cz = far(*rng);
+    const int x = std::clamp(cx + near(*rng), 0, 1023), y = std::clamp(cy + near(*rng), 0, 1023),
+              z = std::clamp(cz + near(*rng), 0, 1023);
+    out.push_back(Pack(x, y, z));
+  }
+  return out;
+}
+
+TEST(SpsrKeys, PackRoundTrips) {
+  const Key k = Pack(3, (1 << 21) - 1, 77);
+  EXPECT_EQ(KX(k), 3);
+  EXPECT_EQ(KY(k), (1 << 21) - 1);
+  EXPECT_EQ(KZ(k), 77);
+  EXPECT_NE(Pack(1, 0, 0), Pack(0, 1, 0));
+}
+
+TEST(SpsrKeys, KeyMapMatchesStdMapThroughRehashes) {
+  std::mt19937 rng(7);
+  KeyMap m;
+  std::map<Key, int> ref;
+  const std::vector<Key> keys = RandomKeys(&rng, 20000);
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const int stored = m.Insert(keys[i], static_cast<int>(i));
+    const auto [it, fresh] = ref.emplace(keys[i], static_cast<int>(i));
+    EXPECT_EQ(stored, it->second);  // an existing key keeps its first value
+    (void)fresh;
+  }
+  EXPECT_EQ(m.size(), ref.size());
+  for (const auto& [k, v] : ref) EXPECT_EQ(m.Find(k), v);
+  for (const Key k : RandomKeys(&rng, 2000)) {
+    if (!ref.count(k)) {
+      EXPECT_EQ(m.Find(k), -1);
+    }
+  }
+  std::vector<Key> sorted;
+  for (const auto& kv : ref) sorted.push_back(kv.first);
+  EXPECT_EQ(m.SortedKeys(), sorted);
+}
+
+void CheckNodeCache(NodeCache<double> cache, const std::vector<Key>& keys, std::mt19937* rng) {
+  std::map<Key, double> ref;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    cache.Set(keys[i], 0.5 * static_cast<double>(i));  // a later Set overwrites
+    ref[keys[i]] = 0.5 * static_cast<double>(i);
+  }
+  for (const auto& [k, v] : ref) {
+    const double* got = cache.Lookup(k);
+    ASSERT_NE(got, nullptr);
+    EXPECT_EQ(*got, v);
+  }
+  // Neighbours of known nodes share their bricks (or the lattice) but were
+  // never set: unknown.
+  for (const Key k : RandomKeys(rng, 3000)) {
+    if (!ref.count(k)) {
+      EXPECT_EQ(cache.Lookup(k), nullptr);
+    }
+  }
+  std::vector<Key> sorted;
+  for (const auto& kv : ref) sorted.push_back(kv.first);
+  EXPECT_EQ(cache.SortedKeys(), sorted);
+}
+
+TEST(SpsrKeys, NodeCacheMatchesStdMapWithAndWithoutLattice) {
+  std::mt19937 rng(11);
+  const std::vector<Key> keys = RandomKeys(&rng, 15000);
+  CheckNodeCache(NodeCache<double>(), keys, &rng);
+  // The complete level's lattice: every 8th node, 128 per side (covers
+  // coordinates 0..1016; multiples of 8 beyond it go to bricks).
+  CheckNodeCache(NodeCache<double>(3, 128), keys, &rng);
+  // Lattice nodes only, and one past the lattice's end.
+  std::vector<Key> lattice;
+  for (int i = 0; i < 200; ++i) lattice.push_back(Pack(8 * (i % 128), 8 * (i / 7 % 128), 8 * (i / 3 % 128)));
+  lattice.push_back(Pack(1024, 0, 0));
+  CheckNodeCache(NodeCache<double>(3, 128), lattice, &rng);
+}
+
+TEST(SpsrKeys, BrickIndexAndBrickSetMatchSortedList) {
+  std::mt19937 rng(13);
+  const std::vector<Key> keys = RandomKeys(&rng, 12000);
+  std::set<Key> ref(keys.begin(), keys.end());
+  BrickSet set;
+  for (const Key k : keys) set.Insert(k);
+  const std::vector<Key> sorted(ref.begin(), ref.end());
+  EXPECT_EQ(set.SortedKeys(), sorted);
+  const BrickIndex index = BrickIndex::IndexOf(sorted);
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    EXPECT_TRUE(set.Contains(sorted[i]));
+    EXPECT_EQ(index.Find(sorted[i]), static_cast<int>(i));
+  }
+  for (const Key k : RandomKeys(&rng, 3000)) {
+    if (ref.count(k)) continue;
+    EXPECT_FALSE(set.Contains(k));
+    EXPECT_EQ(index.Find(k), -1);
+  }
+}
+
+}  // namespace
+}  // namespace arcs::spsr_keys
