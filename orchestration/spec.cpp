@@ -79,6 +79,7 @@ ParamValue DecodeValue(const std::string& file, const YAML::Node& node, const st
         Fail(file, node, field,
              "'" + nested.stage + "' is a " + RoleName(info.role) + " stage; expected a stage of role " +
                  spec.stage_role);
+      InheritNestedDefaults(spec, &nested);
       try {
         nested.params = registry.Resolve(nested.stage, nested.params);
       } catch (const Error& e) {

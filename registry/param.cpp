@@ -227,4 +227,12 @@ const ParamSpec* ParamSchema::Find(const std::string& name) const {
   return nullptr;
 }
 
+void InheritNestedDefaults(const ParamSpec& spec, StageSpec* nested) {
+  if (spec.type != ParamType::kStage) return;
+  const auto* def = std::get_if<std::shared_ptr<StageSpec>>(&spec.default_value);
+  if (!def || !*def || (*def)->stage != nested->stage) return;
+  for (const auto& [k, v] : (*def)->params.items())
+    if (!nested->params.Has(k)) nested->params.Set(k, v);
+}
+
 }  // namespace arcs

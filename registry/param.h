@@ -76,6 +76,14 @@ struct ParamSpec {
   }
 };
 
+// A nested stage given for a stage parameter whose default names the same
+// stage starts from the default's parameters, the given ones on top: in
+// rfta, `reconstructor: {stage: screened_poisson, params: {point_weight: 4}}`
+// (or `reconstructor: screened_poisson`) is the default call (the official
+// one) with weight 4, not screened_poisson's own defaults. Another stage
+// starts from its own defaults. Keys already given are kept.
+void InheritNestedDefaults(const ParamSpec& spec, StageSpec* nested);
+
 // Fluent builder of a stage's parameter list.
 class ParamSchema {
  public:

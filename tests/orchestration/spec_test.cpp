@@ -90,6 +90,64 @@ TEST_F(ExperimentTest, OverridesChangeParametersAndCases) {
   EXPECT_DOUBLE_EQ(ExpandCases(e2, registry_)[0].method_stages[0].params.GetDouble("level"), 0.05);
 }
 
+// A nested stage named like its parameter's default starts from the default
+// call (rfta's reconstructors: the official screened Poisson), the given keys
+// on top; another stage, or a parameter left out, as before. The same rule
+// for the YAML path and for programmatic parameters (Registry::Resolve).
+TEST_F(ExperimentTest, NestedStageOfTheDefaultsNameInheritsTheDefaultCall) {
+  const std::string yaml = R"(name: t
+datasets:
+  - name: shapes
+    shapes: [sphere]
+inputs:
+  - name: grid
+    pipeline: [{stage: sdf_grid, params: {n: 10}}]
+methods:
+  - name: RFTA
+    pipeline:
+      - stage: rfta
+        params:
+          reconstructor:
+            - {stage: screened_poisson, params: {point_weight: 4}}
+            - screened_poisson
+            - ball_pivoting
+          tuning_reconstructor: {stage: screened_poisson, params: {cg_iters: 20}}
+metrics: [chamfer]
+)";
+  const auto cases = ExpandCases(LoadExperiment(Write(yaml), {}, registry_), registry_);
+  ASSERT_EQ(cases.size(), 3u);
+  const ParamMap& defaults = registry_.Resolve("rfta", ParamMap{});
+  const StageSpec& official = defaults.GetStage("reconstructor");
+  ASSERT_EQ(official.stage, "screened_poisson");
+  EXPECT_EQ(official.params.GetString("backend"), "arcs");
+  auto reconstructor = [&](std::size_t i) -> const StageSpec& {
+    return cases[i].method_stages[0].params.GetStage("reconstructor");
+  };
+  // Weight 4 over the official call: its backend, depth, scale, normalisation.
+  EXPECT_DOUBLE_EQ(reconstructor(0).params.GetDouble("point_weight"), 4.0);
+  for (const char* k : {"backend", "area_normalized", "depth", "scale"})
+    EXPECT_EQ(FormatParamValue(reconstructor(0).params.Get(k)), FormatParamValue(official.params.Get(k))) << k;
+  // The bare name is the official call itself.
+  for (const auto& [k, v] : official.params.items())
+    EXPECT_EQ(FormatParamValue(reconstructor(1).params.Get(k)), FormatParamValue(v)) << k;
+  // Another stage: its own defaults.
+  EXPECT_EQ(reconstructor(2).stage, "ball_pivoting");
+  const StageSpec& tuning = cases[0].method_stages[0].params.GetStage("tuning_reconstructor");
+  EXPECT_EQ(tuning.params.GetInt("cg_iters"), 20);
+  EXPECT_EQ(tuning.params.GetString("backend"), "arcs");
+  EXPECT_DOUBLE_EQ(tuning.params.GetDouble("point_weight"), official.params.GetDouble("point_weight"));
+  // screened_poisson's own default backend differs, so the test tells the rules apart.
+  EXPECT_NE(registry_.Resolve("screened_poisson", ParamMap{}).GetString("backend"), "arcs");
+  // Programmatic parameters (the CLI's --param, Python): a bare stage name.
+  ParamMap given;
+  auto bare = std::make_shared<StageSpec>();
+  bare->stage = "screened_poisson";
+  given.Set("reconstructor", bare);
+  const ParamMap r = registry_.Resolve("rfta", given);
+  for (const auto& [k, v] : official.params.items())
+    EXPECT_EQ(FormatParamValue(r.GetStage("reconstructor").params.Get(k)), FormatParamValue(v)) << k;
+}
+
 TEST_F(ExperimentTest, ErrorsNameFileLineAndField) {
   // Unknown top-level key, with suggestion.
   ExpectError("name: t\ndatasetz: []\n", {"exp.yaml:2", "unknown key 'datasetz'", "did you mean 'datasets'"});
