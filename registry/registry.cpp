@@ -86,8 +86,8 @@ ParamMap Registry::Resolve(const std::string& stage, const ParamMap& given) cons
       if (RoleName(ninfo.role) != spec.stage_role)
         throw OptionError(stage + "." + spec.name + " = " + nested.stage + ": must be a stage of role " +
                           spec.stage_role + ", but '" + nested.stage + "' is a " + RoleName(ninfo.role));
-      StageSpec base = nested;
-      if (given.Has(spec.name)) InheritNestedDefaults(spec, &base);
+      StageSpec base = nested;  // the default itself when not given: inheriting adds nothing
+      InheritNestedDefaults(spec, &base);
       auto resolved = std::make_shared<StageSpec>();
       resolved->stage = nested.stage;
       resolved->params = Resolve(nested.stage, base.params);

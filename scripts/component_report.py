@@ -15,30 +15,14 @@ inside sample (the samples neither require nor forbid them).
 
 MESH and REFERENCE are `arcs run --save-outputs` files (the case's frame,
 described by MESH.ply.transform.json); SAMPLES.npz.transform.json maps the
-samples' frame. Brute force in numpy (a few seconds per 100k faces): a
-diagnostic, not a metric.
+samples' frame. Reads, distances and winding numbers through the `arcs`
+Python module (build/python; README, "Python"); a diagnostic, not a metric.
 """
 import json
 import sys
 
+import arcs
 import numpy as np
-
-
-def read_ply(path):
-    data = open(path, "rb").read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode()
-    if "binary_little_endian" not in header:
-        sys.exit(f"{path}: only binary little-endian PLY is read here")
-    nv = int(header.split("element vertex ")[1].split()[0])
-    nf = int(header.split("element face ")[1].split()[0]) if "element face " in header else 0
-    props = [l.split()[-1] for l in header.split("element vertex")[1].split("element")[0].splitlines()
-             if l.startswith("property")]
-    dt = "<f8" if "property double x" in header else "<f4"
-    verts = np.frombuffer(data, dtype=dt, count=nv * len(props), offset=end).reshape(nv, len(props))[:, :3]
-    off = end + nv * len(props) * np.dtype(dt).itemsize
-    faces = np.frombuffer(data, dtype=np.dtype([("n", "u1"), ("i", "<i4", 3)]), count=nf, offset=off)["i"]
-    return verts.astype(float), faces.copy()
 
 
 def components(nv, faces):
@@ -54,58 +38,38 @@ def components(nv, faces):
             return lab
 
 
-def min_dist(a, b, chunk=4000):
-    out = np.full(len(a), np.inf)
-    for i in range(0, len(b), chunk):
-        out = np.minimum(out, ((a[:, None, :] - b[None, i:i + chunk, :]) ** 2).sum(-1).min(1))
-    return np.sqrt(out)
-
-
-def winding(points, tris, chunk=20000):
-    """Generalised winding number of `points` with respect to triangles (atan2 solid angles)."""
-    w = np.zeros(len(points))
-    for i in range(0, len(tris), chunk):
-        a, b, c = (tris[i:i + chunk, k][None] - points[:, None] for k in range(3))
-        la, lb, lc = (np.linalg.norm(x, axis=-1) for x in (a, b, c))
-        det = np.einsum("pfi,pfi->pf", a, np.cross(b, c))
-        dot = lambda x, y: np.einsum("pfi,pfi->pf", x, y)
-        den = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb
-        w += 2 * np.arctan2(det, den).sum(1)
-    return w / (4 * np.pi)
+def distance(points, verts, faces):
+    """Unsigned distance of `points` to the mesh (verts, faces)."""
+    return np.abs(arcs.signed_distance(points, verts, faces))
 
 
 def main(argv):
     if len(argv) not in (3, 4):
         sys.exit(__doc__)
-    verts, faces = read_ply(argv[1])
-    ref, _ = read_ply(argv[2])
+    verts, faces = arcs.read_mesh(argv[1])
+    ref_v, ref_f = arcs.read_mesh(argv[2])
     lab = components(len(verts), faces)
     face_lab = lab[faces[:, 0]]
     ids, counts = np.unique(face_lab, return_counts=True)
     order = np.argsort(-counts)
-    rng = np.random.default_rng(0)
-    ref_s = ref[rng.choice(len(ref), min(len(ref), 40000), replace=False)]
-    main_v = verts[np.unique(faces[face_lab == ids[order[0]]])]
-    main_s = main_v[::max(1, len(main_v) // 30000)]
+    main_f = faces[face_lab == ids[order[0]]]
     print(f"{argv[1]}: {len(verts)} vertices, {len(faces)} faces, {len(ids)} components")
     print("  faces     extent   to-ref mean   to-ref max   gap to largest")
     for j in order:
         p = verts[np.unique(faces[face_lab == ids[j]])]
-        ps = p[::max(1, len(p) // 500)]
-        d = min_dist(ps, ref_s)
-        gap = 0.0 if j == order[0] else min_dist(ps, main_s).min()
+        d = distance(p, ref_v, ref_f)
+        gap = 0.0 if j == order[0] else distance(p, verts, main_f).min()
         print(f"  {counts[j]:8d}  {np.ptp(p, axis=0).max():8.4f}  {d.mean():11.4f}  {d.max():11.4f}  {gap:14.4f}")
     if len(argv) < 4:
         return
     frame = json.load(open(argv[1] + ".transform.json"))
     sframe = json.load(open(argv[3] + ".transform.json"))
-    z = np.load(argv[3])
-    grid, nodes = z["S"], z["U"]
-    n = grid.shape[0]
-    lo = nodes.min(0)
-    h = (nodes.max(0) - lo) / (n - 1)
-    ijk = np.rint((nodes - lo) / h).astype(int)
-    vals = grid[ijk[:, 0], ijk[:, 1], ijk[:, 2]]
+    nodes, grid = arcs.read_sdf(argv[3])  # a grid's S.ravel() matches U
+    if grid.ndim != 3:
+        sys.exit(f"{argv[3]}: grid samples expected (arcs sdf MESH OUT.npz --n N)")
+    vals = grid.ravel()
+    ijk = np.stack(np.unravel_index(np.arange(vals.size), grid.shape), axis=1)
+    h = (nodes.max(0) - nodes.min(0)) / (np.asarray(grid.shape) - 1)
     # samples' frame -> input frame -> the mesh's frame (both maps y = s R (x + t)).
     x = (np.asarray(sframe["rotation"]).T @ (nodes / sframe["scale"]).T).T - np.asarray(sframe["translation"])
     centres = frame["scale"] * (np.asarray(frame["rotation"]) @ (x + np.asarray(frame["translation"])).T).T
@@ -128,10 +92,8 @@ def main(argv):
     cluster = np.array([find(a) for a in range(len(inside))])
     owner = np.full(len(inside), -1)
     for rank, j in enumerate(order):
-        tris = verts[faces[face_lab == ids[j]]]
-        for s in range(0, len(c_in), 50):
-            hit = np.abs(winding(c_in[s:s + 50], tris)) > 0.5
-            owner[s:s + 50][hit & (owner[s:s + 50] < 0)] = rank
+        hit = np.abs(arcs.winding_number(verts, faces[face_lab == ids[j]], c_in, exact=True)) > 0.5
+        owner[hit & (owner < 0)] = rank
     print(f"samples: {len(vals)}, {len(inside)} inside, grid spacing {h[0] / sframe['scale'] * frame['scale']:.4f} "
           f"(mesh frame); {len(np.unique(cluster))} clusters of overlapping inside balls; "
           f"{(owner < 0).sum()} inside samples in no component")
