@@ -142,7 +142,7 @@ void MakeFeasibleOptions::Check() const {
 }
 
 bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, const MakeFeasibleOptions& o,
-                  Vec3* x, int* steps, const SphereTree::LocalSet* local) {
+                  Vec3* x, int* steps, const SphereTree::LocalSet* local, bool known_feasible) {
   auto on_sphere = [&](const Vec3& v) -> Vec3 {
     const Vec3 d = v - c;
     const double n = d.norm();
@@ -184,7 +184,12 @@ bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, 
   // Most points given are feasible already: the early-exit containment test
   // settles those without gathering (the same answer as gather()'s).
   auto check = [&]() { return !tree.AnyContains(*x, -o.tol, self_id, local) || gather(); };
+  const Vec3 given = *x;
   *x = on_sphere(*x);
+  if (known_feasible && *x == given) {
+    if (steps) *steps = 0;
+    return true;
+  }
   int step = 0;
   bool feasible = check();
   while (!feasible && step < o.iterations) {

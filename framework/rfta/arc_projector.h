@@ -64,9 +64,13 @@ struct MakeFeasibleOptions {
 // receives the number of steps taken. `local` (optional): a list of the
 // constraint balls near *x (SphereTree::CollectLocal with offset >= tol),
 // used while x stays in its box; the result is the same without it.
+// `known_feasible`: the caller has just found no ball of `constraints` other
+// than self_id containing *x by more than tol (SphereTree::FindContaining
+// with offset -tol); then, if *x is on the sphere to the bit, the test is not
+// repeated (the same answer).
 bool MakeFeasible(const SphereTree& constraints, const Vec3& center, double radius, int self_id,
                   const MakeFeasibleOptions& options, Vec3* x, int* steps = nullptr,
-                  const SphereTree::LocalSet* local = nullptr);
+                  const SphereTree::LocalSet* local = nullptr, bool known_feasible = false);
 
 // b distinct indices of [0, n) drawn uniformly without replacement, sorted
 // (n <= b or b == 0: all of [0, n)). The official code draws with

@@ -69,10 +69,12 @@ AllSpheres Combine(const SignedSpheres& s) {
 // sphere contains it by more than tol). Returns p itself when no step is
 // feasible (p is the last known feasible point, paper §4.2), or q when
 // `jump_when_blocked` (the official code; Alg. 2 then repairs q).
+// *tested: whether the point returned was found feasible here.
 // In 2D (dim 2) every point has z = 0 and the rotation axis is the z axis.
 Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double step, int halvings,
                const SphereTree& tree, double tol, int self, bool jump_when_blocked,
-               const SphereTree::LocalSet* local, int dim) {
+               const SphereTree::LocalSet* local, int dim, bool* tested) {
+  *tested = false;
   const Vec3 u = (p - c) / r, v = (q - c) / r;
   const double cosang = std::clamp(u.dot(v), -1.0, 1.0);
   const double full = std::acos(cosang);
@@ -94,7 +96,10 @@ Vec3 Transport(const Vec3& p, const Vec3& q, const Vec3& c, double r, double ste
     for (int b = 0; b < nb && !blocked; ++b) blocked = tree.Contains(blockers[b], x, -tol, self);
     if (!blocked) {
       const int k = tree.FindContaining(x, -tol, self, local);
-      if (k < 0) return x;
+      if (k < 0) {
+        *tested = true;
+        return x;
+      }
       if (nb < 8) blockers[nb++] = k;
       else blockers[h % 8] = k;
     }
@@ -326,15 +331,16 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         const Vec3 q = project(cp.row(g).transpose());
         std::vector<Vec3>& mine = pts[g];
         std::vector<Vec3> cand;
+        std::vector<char> tested;  // per candidate: Transport found it feasible
         auto closest_to = [&](const Vec3& target) {
           size_t best = 0;
           for (size_t k = 1; k < mine.size(); ++k)
             if ((mine[k] - target).squaredNorm() < (mine[best] - target).squaredNorm()) best = k;
           return best;
         };
-        auto transport = [&](const Vec3& p, const Vec3& target) {
+        auto transport = [&](const Vec3& p, const Vec3& target, bool* ok) {
           return Transport(p, target, c, r, options.tau, options.halvings, tree, options.search.tol, g,
-                           options.jump_when_blocked, local, samples.dim);
+                           options.jump_when_blocked, local, samples.dim, ok);
         };
         // A sphere without a point gets q if feasible ("second chance");
         // otherwise its point closest to q moves towards q. Returns that
@@ -342,16 +348,20 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         auto second_chance_or_move_closest = [&]() -> size_t {
           if (mine.empty()) {
             cand.push_back(q);
+            tested.push_back(0);
             second[g] = 1;
             return 0;
           }
           const size_t k0 = closest_to(q);
-          cand.push_back(transport(mine[k0], q));
+          bool ok = false;
+          cand.push_back(transport(mine[k0], q, &ok));
+          tested.push_back(ok);
           return k0;
         };
         if (r <= options.search.tol) {
           kind[g] = 3;
           cand = mine;
+          tested.assign(cand.size(), 0);
         } else if (d < r - options.search.tol) {  // the surface cuts into the sphere
           kind[g] = 1;
           second_chance_or_move_closest();
@@ -359,21 +369,31 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
             if (options.max_points_per_sphere > 1) {
               // Every existing point moves towards the projection of its own
               // closest surface point; ordered by distance to the surface.
-              std::vector<std::pair<double, Vec3>> moved;
+              struct Moved {
+                double d;
+                Vec3 x;
+                bool ok;
+              };
+              std::vector<Moved> moved;
               const Vec3 cpg = cp.row(g).transpose();  // on the surface: bounds each point's distance
               for (const Vec3& a : mine) {
                 Vec3 hp;
                 const double hd = surface.Closest(a, &hp, (a - cpg).squaredNorm());
-                moved.emplace_back(hd, transport(a, project(hp)));
+                bool ok = false;
+                const Vec3 x = transport(a, project(hp), &ok);
+                moved.push_back({hd, x, ok});
               }
               std::stable_sort(moved.begin(), moved.end(),
-                               [](const auto& x, const auto& y) { return x.first < y.first; });
+                               [](const auto& x, const auto& y) { return x.d < y.d; });
               // Severe cut (|t| < 4/5 |s|): one more point (up to n_max);
               // otherwise the point farthest from the surface is discarded.
               const bool severe = d < options.severe_ratio * r;
               size_t keep = severe ? moved.size() : moved.size() - 1;
               keep = std::min<size_t>(keep, static_cast<size_t>(options.max_points_per_sphere - 1));
-              for (size_t k = 0; k < keep; ++k) cand.push_back(moved[k].second);
+              for (size_t k = 0; k < keep; ++k) {
+                cand.push_back(moved[k].x);
+                tested.push_back(moved[k].ok);
+              }
             }
           }
         } else if (d > r + options.search.tol) {  // the surface misses the sphere
@@ -382,20 +402,26 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           if (!mine.empty()) {
             if (options.keep_points_when_missed)
               for (size_t k = 0; k < mine.size(); ++k)
-                if (k != k0) cand.push_back(mine[k]);
+                if (k != k0) {
+                  cand.push_back(mine[k]);
+                  tested.push_back(0);
+                }
           }
         } else {  // tangent: keep
           kind[g] = 3;
           cand = mine;
+          tested.assign(cand.size(), 0);
           if (cand.empty()) {
             cand.push_back(q);
+            tested.push_back(0);
             second[g] = 1;
           }
         }
         // Algorithm 2 against the batch of both signs; infeasible ones go.
         std::vector<Vec3>& out = next[g];
-        for (Vec3 x : cand) {
-          if (MakeFeasible(tree, c, r, g, mf, &x, nullptr, local))
+        for (std::size_t k = 0; k < cand.size(); ++k) {
+          Vec3 x = cand[k];
+          if (MakeFeasible(tree, c, r, g, mf, &x, nullptr, local, tested[k]))
             out.push_back(x);
           else
             ++dropped[g];
