@@ -181,7 +181,8 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
   data.item_path = c.source.Key();
   // Seeds: inputs and metrics depend only on (seed, item, input), so every
   // method of a case group sees the same samples and the same metric draws;
-  // the method's own stream also depends on the method.
+  // the method's own stream also depends on the method (or, with
+  // `method_seed: shared`, is the same for every method).
   const std::string item_key = c.source.Key() + "|" + c.input;
   std::string input_key = item_key;
   for (const auto& s : c.input_stages) input_key += "|" + s.stage + FormatParamValue(std::make_shared<StageSpec>(s));
@@ -205,7 +206,7 @@ Row ExecuteCase(const Case& c, const Registry& registry, int threads, const Cont
     if (data.samples) set("input_samples", std::to_string(data.samples->Size()));
 
     // 3. The method, timed, with its own peak memory.
-    Context mctx(HashSeed(ctx.seed(), Fnv1a64(c.method)));
+    Context mctx(HashSeed(ctx.seed(), Fnv1a64(c.MethodSeedKey())));
     mctx.set_log(log);
     peak_before_method = PeakRssBytes();
     const bool reset = ResetPeakRss();

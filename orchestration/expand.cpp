@@ -146,7 +146,7 @@ std::string CaseKey(const Case& c, const DatasetSpec& ds, const std::string& met
          std::to_string(nz.center) + "," + std::to_string(nz.random_rotation) + "," +
          std::to_string(nz.rotation_seed) + "|input=" + c.input + ":" + CanonicalStages(c.input_stages) +
          "|method=" + c.method + ":" + CanonicalStages(c.method_stages) + "|metrics=" + metric_key +
-         "|seed=" + std::to_string(c.seed);
+         "|seed=" + std::to_string(c.seed) + (c.shared_method_seed ? "|method_seed=shared" : "");
 }
 
 std::vector<Case> ExpandCases(const Experiment& exp, const Registry& registry) {
@@ -183,6 +183,7 @@ std::vector<Case> ExpandCases(const Experiment& exp, const Registry& registry) {
               c.method_stages = m_stages;
               c.metric_stages = metrics;
               c.seed = exp.seed;
+              c.shared_method_seed = exp.shared_method_seed;
               AddParamColumns(in_stages, &c.params);
               AddParamColumns(m_stages, &c.params);
               c.id = Hex16(Fnv1a64(CaseKey(c, ds, metric_key)));

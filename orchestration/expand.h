@@ -27,6 +27,10 @@ struct Case {
   std::vector<StageSpec> method_stages;
   std::vector<StageSpec> metric_stages;
   std::uint64_t seed = 1;  // the experiment's seed
+  bool shared_method_seed = false;  // Experiment::shared_method_seed
+  // What the method's random stream hashes into the case group's seed: the
+  // method's name, or one fixed key when the methods share their stream.
+  std::string MethodSeedKey() const { return shared_method_seed ? std::string("method") : method; }
   // Resolved parameters as results columns ("stage.param" -> text), in order.
   std::vector<std::pair<std::string, std::string>> params;
   // Parameter columns that vary across the experiment's cases (for labels).

@@ -330,7 +330,7 @@ Experiment LoadExperimentImpl(const std::string& path, const std::vector<std::st
   const std::string& f = path;
   const std::string base = fs::path(path).parent_path().string();
 
-  CheckKeys(f, doc, "", {"name", "description", "seed", "case_timeout_s", "save_outputs", "plugins", "datasets",
+  CheckKeys(f, doc, "", {"name", "description", "seed", "method_seed", "case_timeout_s", "save_outputs", "plugins", "datasets",
                          "inputs", "methods", "metrics", "tables"});
   exp.name = doc["name"] ? GetString(f, doc["name"], "name") : fs::path(path).stem().string();
   if (doc["description"]) exp.description = GetString(f, doc["description"], "description");
@@ -338,6 +338,12 @@ Experiment LoadExperimentImpl(const std::string& path, const std::vector<std::st
     const std::int64_t s = GetInt(f, doc["seed"], "seed");
     if (s < 0) Fail(f, doc["seed"], "seed", "must be >= 0");
     exp.seed = static_cast<std::uint64_t>(s);
+  }
+  if (doc["method_seed"]) {
+    const std::string m = GetString(f, doc["method_seed"], "method_seed");
+    if (m != "per_method" && m != "shared")
+      Fail(f, doc["method_seed"], "method_seed", "'" + m + "' is not per_method (the default) or shared");
+    exp.shared_method_seed = m == "shared";
   }
   if (doc["save_outputs"]) exp.save_outputs = GetBool(f, doc["save_outputs"], "save_outputs");
   if (doc["case_timeout_s"]) {

@@ -63,6 +63,12 @@ struct Experiment {
   std::string name;
   std::string description;
   std::uint64_t seed = 1;
+  // The methods' random streams: one per method (each hashes its name into
+  // the seed), or one shared by every method of a case group (common random
+  // numbers: methods that differ only in a parameter see the same draws, so
+  // an ablation written as several methods measures the parameter alone, as
+  // a sweep inside one method does).
+  bool shared_method_seed = false;
   double case_timeout_s = 0;  // 0 = no limit
   // Write each case's output (mesh, 2D curve, the method's oriented points)
   // into <results>/outputs/ (also `arcs run --save-outputs`).

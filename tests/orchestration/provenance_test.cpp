@@ -94,6 +94,62 @@ metrics: [{stage: chamfer_2d, params: {samples: 2000}}, topology_2d]
   }
 }
 
+// `method_seed: shared`: two methods with one pipeline under two names see
+// the same random draws (the same points and metrics), and the saved config
+// keeps the setting; by default each method has its own stream, so the same
+// two give different draws (the run's results differ), as before.
+TEST_F(ProvenanceTest, SharedMethodSeedGivesTwoNamesOfOnePipelineTheSameDraws) {
+  const std::string body = R"(
+datasets:
+  - {name: c, kind: curves, shapes: [star]}
+inputs:
+  - {name: grid, pipeline: [{stage: sdf_grid_2d, params: {n: 16}}]}
+methods:
+  - {name: A, pipeline: [{stage: rfta, params: {iterations: 3}}]}
+  - {name: B, pipeline: [{stage: rfta, params: {iterations: 3}}]}
+metrics: [{stage: chamfer_2d, params: {samples: 2000}}]
+)";
+  auto by_method = [](const std::map<std::string, std::map<std::string, std::string>>& rows) {
+    std::map<std::string, std::map<std::string, std::string>> m;
+    for (const auto& [id, row] : rows) m[row.at("method")] = row;
+    return m;
+  };
+  const char* cols[] = {"chamfer_2d", "free_points", "arc_points", "rfta_points"};
+  const Experiment shared = Load("name: shared\nmethod_seed: shared" + body);
+  EXPECT_TRUE(shared.shared_method_seed);
+  const auto s = by_method(Run(shared, "shared"));
+  ASSERT_EQ(s.size(), 2u);
+  for (const char* k : cols) EXPECT_EQ(s.at("A").at(k), s.at("B").at(k)) << k;
+  const YAML::Node saved = YAML::LoadFile((dir_ / "shared" / "config.resolved.yaml").string());
+  ASSERT_TRUE(saved["method_seed"]);
+  EXPECT_EQ(saved["method_seed"].as<std::string>(), "shared");
+
+  const Experiment own = Load("name: own" + body);
+  EXPECT_FALSE(own.shared_method_seed);
+  const auto o = by_method(Run(own, "own"));
+  ASSERT_EQ(o.size(), 2u);
+  bool any_differs = false;
+  for (const char* k : cols) any_differs = any_differs || o.at("A").at(k) != o.at("B").at(k);
+  EXPECT_TRUE(any_differs) << "per-method streams gave two methods the same draws";
+  // Case ids: shared ones differ from per-method ones (a results directory
+  // never mixes the two), per-method ones are what they were.
+  const auto cs = ExpandCases(shared, registry_), co = ExpandCases(own, registry_);
+  ASSERT_EQ(cs.size(), co.size());
+  for (size_t i = 0; i < cs.size(); ++i) EXPECT_NE(cs[i].id, co[i].id);
+}
+
+TEST_F(ProvenanceTest, MethodSeedOtherThanPerMethodOrSharedIsAnErrorNamingTheField) {
+  try {
+    Load("name: bad\nmethod_seed: common\nmethods:\n  - {name: MC, pipeline: [marching_cubes]}\n");
+    FAIL() << "accepted method_seed: common";
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("exp.yaml:2"), std::string::npos) << what;
+    EXPECT_NE(what.find("method_seed"), std::string::npos) << what;
+    EXPECT_NE(what.find("per_method"), std::string::npos) << what;
+  }
+}
+
 TEST_F(ProvenanceTest, MeshAndPointsSavedConfigExpandsToTheSameCases) {
   WriteMesh((dir_ / "my_torus.obj").string(), MakeBuiltinShape("torus"));
   const Experiment exp = Load(R"(name: meshes
