@@ -77,7 +77,7 @@ YAML::Node ResolvedConfig(const Experiment& exp, const Registry& registry) {
   if (doc["inputs"]) fill(doc["inputs"], exp.inputs);
   if (doc["methods"]) fill(doc["methods"], exp.methods);
   doc["seed"] = exp.seed;
-  doc["method_seed"] = exp.shared_method_seed ? "shared" : "per_method";
+  doc["method_seed"] = exp.MethodSeedName();
   // Paths made absolute so `arcs table DIR` works from anywhere.
   // Built-in shapes and curves go back to `shapes` (a curves dataset's too,
   // so that the saved file runs again).
@@ -133,7 +133,7 @@ std::string ProvenanceText(const Experiment& exp, const RunOptions& o, int threa
   e << YAML::Key << "shard_from" << YAML::Value << (o.shard.source.empty() ? "none" : o.shard.source);
   e << YAML::Key << "experiment" << YAML::Value << fs::absolute(exp.file).string();
   e << YAML::Key << "seed" << YAML::Value << exp.seed;
-  e << YAML::Key << "method_seed" << YAML::Value << (exp.shared_method_seed ? "shared" : "per_method");
+  e << YAML::Key << "method_seed" << YAML::Value << exp.MethodSeedName();
   e << YAML::Key << "jobs" << YAML::Value << o.jobs;
   e << YAML::Key << "threads_per_case" << YAML::Value << threads;
   e << YAML::Key << "isolated_processes" << YAML::Value << o.isolate;

@@ -69,6 +69,7 @@ struct Experiment {
   // an ablation written as several methods measures the parameter alone, as
   // a sweep inside one method does).
   bool shared_method_seed = false;
+  const char* MethodSeedName() const { return shared_method_seed ? "shared" : "per_method"; }
   double case_timeout_s = 0;  // 0 = no limit
   // Write each case's output (mesh, 2D curve, the method's oriented points)
   // into <results>/outputs/ (also `arcs run --save-outputs`).

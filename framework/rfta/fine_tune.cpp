@@ -330,8 +330,16 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         };
         const Vec3 q = project(cp.row(g).transpose());
         std::vector<Vec3>& mine = pts[g];
-        std::vector<Vec3> cand;
-        std::vector<char> tested;  // per candidate: Transport found it feasible
+        // The sphere's candidate points, each with whether Transport has
+        // just found it feasible (Alg. 2 then need not test it again).
+        struct Candidate {
+          Vec3 x;
+          bool tested;
+        };
+        std::vector<Candidate> cand;
+        auto keep_all = [&]() {
+          for (const Vec3& a : mine) cand.push_back({a, false});
+        };
         auto closest_to = [&](const Vec3& target) {
           size_t best = 0;
           for (size_t k = 1; k < mine.size(); ++k)
@@ -347,21 +355,19 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         // point's index, or mine.size() for a second chance.
         auto second_chance_or_move_closest = [&]() -> size_t {
           if (mine.empty()) {
-            cand.push_back(q);
-            tested.push_back(0);
+            cand.push_back({q, false});
             second[g] = 1;
             return 0;
           }
           const size_t k0 = closest_to(q);
           bool ok = false;
-          cand.push_back(transport(mine[k0], q, &ok));
-          tested.push_back(ok);
+          const Vec3 x = transport(mine[k0], q, &ok);
+          cand.push_back({x, ok});
           return k0;
         };
         if (r <= options.search.tol) {
           kind[g] = 3;
-          cand = mine;
-          tested.assign(cand.size(), 0);
+          keep_all();
         } else if (d < r - options.search.tol) {  // the surface cuts into the sphere
           kind[g] = 1;
           second_chance_or_move_closest();
@@ -369,31 +375,23 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
             if (options.max_points_per_sphere > 1) {
               // Every existing point moves towards the projection of its own
               // closest surface point; ordered by distance to the surface.
-              struct Moved {
-                double d;
-                Vec3 x;
-                bool ok;
-              };
-              std::vector<Moved> moved;
+              std::vector<std::pair<double, Candidate>> moved;
               const Vec3 cpg = cp.row(g).transpose();  // on the surface: bounds each point's distance
               for (const Vec3& a : mine) {
                 Vec3 hp;
                 const double hd = surface.Closest(a, &hp, (a - cpg).squaredNorm());
                 bool ok = false;
                 const Vec3 x = transport(a, project(hp), &ok);
-                moved.push_back({hd, x, ok});
+                moved.push_back({hd, {x, ok}});
               }
               std::stable_sort(moved.begin(), moved.end(),
-                               [](const auto& x, const auto& y) { return x.d < y.d; });
+                               [](const auto& x, const auto& y) { return x.first < y.first; });
               // Severe cut (|t| < 4/5 |s|): one more point (up to n_max);
               // otherwise the point farthest from the surface is discarded.
               const bool severe = d < options.severe_ratio * r;
               size_t keep = severe ? moved.size() : moved.size() - 1;
               keep = std::min<size_t>(keep, static_cast<size_t>(options.max_points_per_sphere - 1));
-              for (size_t k = 0; k < keep; ++k) {
-                cand.push_back(moved[k].x);
-                tested.push_back(moved[k].ok);
-              }
+              for (size_t k = 0; k < keep; ++k) cand.push_back(moved[k].second);
             }
           }
         } else if (d > r + options.search.tol) {  // the surface misses the sphere
@@ -402,26 +400,21 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           if (!mine.empty()) {
             if (options.keep_points_when_missed)
               for (size_t k = 0; k < mine.size(); ++k)
-                if (k != k0) {
-                  cand.push_back(mine[k]);
-                  tested.push_back(0);
-                }
+                if (k != k0) cand.push_back({mine[k], false});
           }
         } else {  // tangent: keep
           kind[g] = 3;
-          cand = mine;
-          tested.assign(cand.size(), 0);
+          keep_all();
           if (cand.empty()) {
-            cand.push_back(q);
-            tested.push_back(0);
+            cand.push_back({q, false});
             second[g] = 1;
           }
         }
         // Algorithm 2 against the batch of both signs; infeasible ones go.
         std::vector<Vec3>& out = next[g];
-        for (std::size_t k = 0; k < cand.size(); ++k) {
-          Vec3 x = cand[k];
-          if (MakeFeasible(tree, c, r, g, mf, &x, nullptr, local, tested[k]))
+        for (const Candidate& cd : cand) {
+          Vec3 x = cd.x;
+          if (MakeFeasible(tree, c, r, g, mf, &x, nullptr, local, cd.tested))
             out.push_back(x);
           else
             ++dropped[g];
