@@ -12,7 +12,10 @@
 // fine-tuning's time went (solves, surface queries, per-sphere updates).
 // RFTA_BENCH_TUNING_EXTRACT_Q=Q: the tuning surfaces' extract_quantile
 // (default 0.5, as the final mesh); RFTA_BENCH_TUNING_CG_ITERS=K
-// their CG steps per level (default 40).
+// their CG steps per level (default 40). RFTA_BENCH_FINE_SOLVER=cg_jacobi |
+// cg_gauss_seidel | gauss_seidel and RFTA_BENCH_GS_ITERS=K: screened Poisson's
+// solver above the complete level, for both surfaces (the stage's
+// fine_solver and gs_iters).
 //
 //   rfta_bench [all | torus20 | torus40 | bunny20]
 //   rfta_bench scaling [SHAPE] [NMAX]
@@ -101,6 +104,12 @@ Outcome RunLibrary(const SdfSamples& samples, int iterations, int points_per_sph
   if (OfficialSurfaces(&official)) o.poisson = o.tuning_poisson = official;
   if (const char* q = std::getenv("RFTA_BENCH_TUNING_EXTRACT_Q")) o.tuning_poisson.extract_quantile = std::atof(q);
   if (const char* it = std::getenv("RFTA_BENCH_TUNING_CG_ITERS")) o.tuning_poisson.cg_iters = std::atoi(it);
+  if (const char* fs = std::getenv("RFTA_BENCH_FINE_SOLVER")) {
+    // Both surfaces, as the stage's screened_poisson parameter would be set.
+    const auto solver = EnumFromName(std::span<const EnumName<SpsrOptions::FineSolver>>(kSpsrFineSolverNames), fs);
+    o.poisson.fine_solver = o.tuning_poisson.fine_solver = solver;
+  }
+  if (const char* gi = std::getenv("RFTA_BENCH_GS_ITERS")) o.poisson.gs_iters = o.tuning_poisson.gs_iters = std::atoi(gi);
   RftaResult r = ReachForTheArcs(samples, o, ctx);
   Outcome out;
   out.mesh = std::get<Mesh>(std::move(r.surface));

@@ -23,6 +23,7 @@
 #pragma once
 
 #include "framework/context.h"
+#include "framework/reconstruct/spsr.h"
 #include "framework/types.h"
 #include "framework/util/enum_names.h"
 
@@ -97,6 +98,10 @@ struct PoissonOptions {
   int cg_iters = 40;
   double cg_accuracy = 1e-3;
   bool warm_start = true;
+  // kArcs: how the levels above the complete one are solved, and the sweeps
+  // of kGaussSeidel (SpsrOptions::FineSolver).
+  SpsrOptions::FineSolver fine_solver = SpsrOptions::FineSolver::kCgJacobi;
+  int gs_iters = 8;
   // kArcs: the marching-cubes level is the samples' octree depth at this
   // quantile, rounded up (1 = the finest level); see spsr.h.
   double extract_quantile = 0.5;
@@ -121,6 +126,12 @@ struct PoissonOptions {
 // the cloud, 1.5 samples per node, PoissonRecon's point weight 10
 // (area-normalised), no open-surface re-solves. Measured in docs/poisson.md.
 PoissonOptions OfficialRftaPoisson();
+
+// The screened_poisson stage's `fine_solver` names.
+inline constexpr EnumName<SpsrOptions::FineSolver> kSpsrFineSolverNames[] = {
+    {SpsrOptions::FineSolver::kCgJacobi, "cg_jacobi"},
+    {SpsrOptions::FineSolver::kCgGaussSeidel, "cg_gauss_seidel"},
+    {SpsrOptions::FineSolver::kGaussSeidel, "gauss_seidel"}};
 
 // The screened_poisson stage's `backend` names, in its choice order.
 inline constexpr EnumName<PoissonOptions::Backend> kPoissonBackendNames[] = {

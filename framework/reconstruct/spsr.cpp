@@ -253,6 +253,7 @@ class Solver {
   double ValueWith(int level, Key k, Memo& memo) const;
   int extract_level_ = 0;
   int islands_ = 0;
+  double last_residual_ = 0;  // SolveLevel's relative residual at its end
   // χ at p (unit cube), trilinear on the finest level's grid.
   double Chi(const Vec3& p);
   Mesh Extract(double iso);
@@ -740,7 +741,8 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       };
   // z = V(r) on the base level itself (its own parallel operator).
   std::vector<double> ae(nn), res(nn), rc, ec;
-  auto precondition = [&](const std::vector<double>& rr, std::vector<double>& zz) {
+  std::function<void(const std::vector<double>&, std::vector<double>&)> precondition =
+      [&](const std::vector<double>& rr, std::vector<double>& zz) {
     if (!mg) {
       for (std::int64_t i = 0; i < nn; ++i) zz[i] = rr[i] / diag[i];
       return;
@@ -758,10 +760,88 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       for (std::int64_t i = 0; i < nn; ++i) zz[i] += kOmega * (rr[i] - ae[i]) / diag[i];
     }
   };
+  // The finer levels' Gauss-Seidel (SpsrOptions::FineSolver): eight colours
+  // by node parity. A 27-point stencil joins nodes at most one apart on each
+  // axis, and a sample's eight corners are one cell's, so no two nodes of a
+  // colour are coupled and each sample touches one node of each colour: a
+  // colour updates in parallel, each node writing only its own samples'
+  // values, and the result does not depend on the thread count.
+  const SpsrOptions::FineSolver mode = mg ? SpsrOptions::FineSolver::kCgJacobi : o_.fine_solver;
+  std::array<std::vector<int>, 8> colour;
+  if (mode != SpsrOptions::FineSolver::kCgJacobi)
+    for (std::int64_t i = 0; i < nn; ++i) {
+      const Key k = L.nodes[i];
+      colour[(KX(k) & 1) | (KY(k) & 1) << 1 | (KZ(k) & 1) << 2].push_back(static_cast<int>(i));
+    }
+  // One colour's update of zz towards A zz = rr; sval holds beta times the
+  // samples' values of zz and is kept so.
+  auto gs_colour = [&](int c, const std::vector<double>& rr, std::vector<double>& zz) {
+    const std::vector<int>& list = colour[c];
+    ParallelFor(static_cast<std::int64_t>(list.size()), [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t k = b; k < e; ++k) {
+        const int i = list[k];
+        double acc = 0;
+        const int* nb = &L.nbr[static_cast<std::size_t>(i) * 27];
+        if (!L.on_face[i]) {
+          for (int o = 0; o < 27; ++o)
+            if (nb[o] >= 0) acc += kin[o] * zz[nb[o]];
+        } else {
+          for (int o = 0; o < 27; ++o)
+            if (nb[o] >= 0) acc += stencil(i, o) * zz[nb[o]];
+        }
+        if (beta > 0)
+          for (int t = start[i]; t < start[i + 1]; ++t) acc += sw[t] * sval[slot[t]];
+        const double delta = (rr[i] - acc) / diag[i];
+        zz[i] += delta;
+        if (beta > 0)
+          for (int t = start[i]; t < start[i + 1]; ++t) sval[slot[t]] += beta * sw[t] * delta;
+      }
+    }, 2048);
+  };
+  auto sample_values = [&](const std::vector<double>& v) {
+    if (beta > 0)
+      ParallelFor(ns, [&](std::int64_t b, std::int64_t e) {
+        for (std::int64_t t = b; t < e; ++t) {
+          double s = 0;
+          for (int q = 0; q < 8; ++q) s += L.s_w[t][q] * v[L.s_corner[t][q]];
+          sval[t] = beta * s;
+        }
+      }, 4096);
+  };
+  auto relative_residual = [&]() {
+    std::vector<double> ax(nn), rr(nn);
+    apply(L.x, ax);
+    for (std::int64_t i = 0; i < nn; ++i) rr[i] = rhs[i] - ax[i];
+    const double bn = std::sqrt(dot(rhs, rhs));
+    return bn > 0 ? std::sqrt(dot(rr, rr)) / bn : 0.0;
+  };
+  if (mode == SpsrOptions::FineSolver::kGaussSeidel) {
+    // PoissonRecon's relaxation: sweeps over the colours in order, from the
+    // start L.x holds.
+    sample_values(L.x);
+    for (int sweep = 0; sweep < o_.gs_iters; ++sweep)
+      for (int c = 0; c < 8; ++c) gs_colour(c, rhs, L.x);
+    // Measured at the finest level only (what SpsrInfo reports): one product more.
+    last_residual_ = L.d == Lmax_ ? relative_residual() : 0.0;
+    return o_.gs_iters;
+  }
+  if (mode == SpsrOptions::FineSolver::kCgGaussSeidel) {
+    // Symmetric Gauss-Seidel from zero: colours 0..7, then 6..0 (colour 7
+    // would not move again). (D+L) D^-1 (D+U) with L, U the couplings to
+    // earlier and later colours: symmetric positive definite.
+    precondition = [&](const std::vector<double>& rr, std::vector<double>& zz) {
+      std::fill(zz.begin(), zz.end(), 0.0);
+      std::fill(sval.begin(), sval.end(), 0.0);
+      for (int c = 0; c < 8; ++c) gs_colour(c, rr, zz);
+      for (int c = 6; c >= 0; --c) gs_colour(c, rr, zz);
+    };
+  }
+  const bool pre_each = mg || mode == SpsrOptions::FineSolver::kCgGaussSeidel;
   std::vector<double> r(nn), z(nn), p(nn), q(nn);
   apply(L.x, q);
   for (std::int64_t i = 0; i < nn; ++i) r[i] = rhs[i] - q[i];
   const double bnorm = std::sqrt(dot(rhs, rhs));
+  last_residual_ = 0;
   if (bnorm == 0) return 0;
   precondition(r, z);
   p = z;
@@ -777,10 +857,10 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       for (std::int64_t i = b; i < e; ++i) {
         L.x[i] += alpha * p[i];
         r[i] -= alpha * q[i];
-        if (!mg) z[i] = r[i] / diag[i];
+        if (!pre_each) z[i] = r[i] / diag[i];
       }
     }, 8192);
-    if (mg) precondition(r, z);
+    if (pre_each) precondition(r, z);
     const double rz2 = dot(r, z);
     const double beta_cg = rz2 / rz;
     rz = rz2;
@@ -788,6 +868,7 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       for (std::int64_t i = b; i < e; ++i) p[i] = z[i] + beta_cg * p[i];
     }, 8192);
   }
+  last_residual_ = std::sqrt(dot(r, r)) / bnorm;
   return it;
 }
 
@@ -1278,6 +1359,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
     info->area = area;
     info->unknowns = unknowns;
     info->cg_iterations = total_iters;
+    info->final_residual = last_residual_;
     info->warm_started = w != nullptr;
     info->solve_s = std::chrono::duration<double>(t1 - t0).count();
     info->extract_s = std::chrono::duration<double>(t2 - t1).count();
@@ -1299,6 +1381,8 @@ Mesh ReconstructSpsr(const PointCloud& oriented, const SpsrOptions& options, con
                     "point_weight", options.point_weight, "in [0, 1e6]");
   ARCS_CHECK_OPTION(options.iters >= 1 && options.iters <= 10000, "iters", options.iters, "in [1, 10000]");
   ARCS_CHECK_OPTION(options.accuracy > 0 && options.accuracy < 1, "accuracy", options.accuracy, "in (0, 1)");
+  ARCS_CHECK_OPTION(options.gs_iters >= 1 && options.gs_iters <= 10000, "gs_iters", options.gs_iters,
+                    "in [1, 10000]");
   ARCS_CHECK_OPTION(options.kernel_depth_offset >= 0 && options.kernel_depth_offset <= 6, "kernel_depth_offset",
                     options.kernel_depth_offset, "in [0, 6]");
   Solver solver(options, ctx);

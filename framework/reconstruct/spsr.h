@@ -62,6 +62,17 @@ struct SpsrOptions {
   double point_weight = 10.0;   // α, PoissonRecon's --pointWeight (area-normalised); 0 = unscreened
   int iters = 40;               // CG steps per level above full_depth (cap)
   double accuracy = 1e-3;       // CG relative residual
+  // How the levels above full_depth are solved (full_depth itself: always
+  // CG with the multigrid preconditioner). kCgJacobi: CG preconditioned by
+  // the diagonal. kCgGaussSeidel: CG preconditioned by one symmetric
+  // Gauss-Seidel sweep in eight colours (node parity: no two nodes of one
+  // colour share a stencil or a sample's cell, so each colour updates in
+  // parallel and the bits do not depend on the thread count). kGaussSeidel:
+  // `gs_iters` forward Gauss-Seidel sweeps in those colours, PoissonRecon's
+  // cascadic relaxation (its `iters`, 8 in the official call), no CG.
+  enum class FineSolver { kCgJacobi, kCgGaussSeidel, kGaussSeidel };
+  FineSolver fine_solver = FineSolver::kCgJacobi;
+  int gs_iters = 8;
   int kernel_depth_offset = 2;  // density kernel at depth - this
   // The marching-cubes level: the samples' depth at this quantile, rounded
   // up (1 = the finest level with cells). The solution is the same; a finer
@@ -86,7 +97,8 @@ struct SpsrInfo {
   double iso_value = 0;
   double area = 0;             // Σ a_s, in units of the cube's side squared
   long long unknowns = 0;      // coefficients over all levels
-  int cg_iterations = 0;       // summed over levels
+  int cg_iterations = 0;       // summed over levels (Gauss-Seidel: sweeps)
+  double final_residual = 0;   // relative residual of the finest level's solve
   bool warm_started = false;
   double solve_s = 0, extract_s = 0;
 };

@@ -39,6 +39,12 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
       .Int("cg_iters", &O::cg_iters, "backend arcs: conjugate-gradient steps per octree level (cap)",
            Closed(1, 10000))
       .Double("cg_accuracy", &O::cg_accuracy, "backend arcs: relative residual the CG stops at", Open(0.0, 1.0))
+      .Enum("fine_solver", &O::fine_solver, kSpsrFineSolverNames,
+            "backend arcs: the levels above the complete one: cg_jacobi (CG, diagonal preconditioner), "
+            "cg_gauss_seidel (CG, symmetric 8-colour Gauss-Seidel preconditioner), gauss_seidel (gs_iters "
+            "8-colour Gauss-Seidel sweeps, PoissonRecon's cascadic relaxation)")
+      .Int("gs_iters", &O::gs_iters, "backend arcs, fine_solver gauss_seidel: sweeps per level (PoissonRecon: 8)",
+           Closed(1, 10000))
       .Double("extract_quantile", &O::extract_quantile,
               "backend arcs: marching cubes at the samples' octree depth at this quantile, rounded up (1 = finest)",
               Closed(0.0, 1.0))

@@ -155,6 +155,61 @@ TEST(Spsr, SameMeshAtOneAndTwoThreads) {
   EXPECT_EQ(one.F, two.F);
 }
 
+// The solvers of the levels above the complete one (SpsrOptions::FineSolver):
+// each gives the torus with its genus, hugging the true surface as closely as
+// the default; the Gauss-Seidel-preconditioned CG stops at the same residual
+// in fewer steps; every mode gives the same bits at one and two threads (the
+// colours update in parallel, each node writing only its own samples).
+TEST(Spsr, FineSolversAgreeAndAreThreadCountIndependent) {
+  const PointCloud pc = TorusPoints(20000, 7);
+  auto tube_error = [](const Mesh& m) {
+    double e = 0;
+    for (int i = 0; i < m.NumVertices(); ++i) {
+      const Vec3 v = m.V.row(i);
+      e += std::abs(std::hypot(std::hypot(v.x(), v.y()) - 0.35, v.z()) - 0.15);
+    }
+    return e / m.NumVertices();
+  };
+  SpsrOptions jac;
+  SpsrInfo jac_info;
+  const Mesh base = ReconstructSpsr(pc, jac, Context(1), nullptr, &jac_info);
+  const double base_err = tube_error(base);
+  for (auto mode : {SpsrOptions::FineSolver::kCgGaussSeidel, SpsrOptions::FineSolver::kGaussSeidel}) {
+    SCOPED_TRACE(static_cast<int>(mode));
+    SpsrOptions o;
+    o.fine_solver = mode;
+    Mesh one, two;
+    SpsrInfo info;
+    {
+      ThreadLimit limit(1);
+      one = ReconstructSpsr(pc, o, Context(1), nullptr, &info);
+    }
+    {
+      ThreadLimit limit(2);
+      two = ReconstructSpsr(pc, o, Context(1));
+    }
+    ASSERT_GT(one.NumFaces(), 1000);
+    EXPECT_EQ(one.V, two.V);
+    EXPECT_EQ(one.F, two.F);
+    const Topology t = ComputeTopology(one);
+    EXPECT_EQ(t.components, 1);
+    EXPECT_EQ(t.boundary_edges, 0);
+    EXPECT_EQ(t.genus, 1);
+    // Exact samples: the surface within a few % of a cell of the tube
+    // (cell ~ 3.2 x 1 / 2^10 ~ 0.003) and no farther than the default's + 10 %.
+    const double err = tube_error(one);
+    EXPECT_LT(err, 1.1 * base_err + 1e-4) << err << " vs cg_jacobi " << base_err;
+    EXPECT_NEAR(Volume(one), Volume(base), 0.01 * Volume(base));
+    if (mode == SpsrOptions::FineSolver::kCgGaussSeidel) {
+      EXPECT_LT(info.cg_iterations, jac_info.cg_iterations);
+      EXPECT_LE(info.final_residual, std::max(jac_info.final_residual, 1e-3) * 1.0001);
+    } else {
+      EXPECT_GT(info.final_residual, 0.0);  // measured after the sweeps
+      EXPECT_LT(info.final_residual, 0.5);
+    }
+  }
+}
+
 TEST(Spsr, StrayPointsInsideMakeNoVoids) {
   // Tangency points that fine-tuning leaves a little inside a solid: each is
   // pinned to the iso-value by the screening and made a one-node void (an
