@@ -3,6 +3,7 @@
 #include "framework/util/rng.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -13,8 +14,9 @@ namespace arcs {
 std::string Case::Label() const {
   std::string s = item;
   for (const auto& [k, v] : params) {
-    if (std::find(varying.begin(), varying.end(), k) != varying.end())
-      s += " " + k.substr(k.rfind('.') + 1) + "=" + v;
+    if (std::find(varying.begin(), varying.end(), k) == varying.end()) continue;
+    const auto it = std::find_if(shown.begin(), shown.end(), [&](const auto& e) { return e.first == k; });
+    s += " " + k.substr(k.rfind('.') + 1) + "=" + (it != shown.end() ? it->second : v);
   }
   return s + " | " + input + " | " + method;
 }
@@ -115,7 +117,43 @@ void CheckCaseCount(const Experiment& exp) {
                           "; sweep fewer values, or raise the limit with ARCS_MAX_CASES");
 }
 
-// Marks the parameter columns that vary across the cases (progress labels).
+// A nested stage's value as FormatParamValue writes it, "stage(k=v, k=v)",
+// split into the stage and its (key, value) pairs at the top level (values
+// may hold nested stages or lists); false for any other value.
+bool SplitNestedValue(const std::string& v, std::string* stage, std::vector<std::pair<std::string, std::string>>* kv) {
+  const std::size_t open = v.find('(');
+  if (open == std::string::npos || open == 0 || v.back() != ')') return false;
+  for (std::size_t i = 0; i < open; ++i)
+    if (!(std::isalnum(static_cast<unsigned char>(v[i])) || v[i] == '_' || v[i] == '.' || v[i] == '-')) return false;
+  *stage = v.substr(0, open);
+  kv->clear();
+  const std::string body = v.substr(open + 1, v.size() - open - 2);
+  int depth = 0;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i <= body.size(); ++i) {
+    const bool end = i == body.size();
+    if (end || (depth == 0 && body.compare(i, 2, ", ") == 0)) {
+      const std::string part = body.substr(start, i - start);
+      if (!part.empty()) {
+        const std::size_t eq = part.find('=');
+        if (eq == std::string::npos || eq == 0) return false;
+        kv->emplace_back(part.substr(0, eq), part.substr(eq + 1));
+      }
+      if (end) break;
+      start = i + 2;
+      ++i;
+      continue;
+    }
+    if (body[i] == '(' || body[i] == '[') ++depth;
+    else if (body[i] == ')' || body[i] == ']') --depth;
+  }
+  return depth == 0;
+}
+
+// Marks the parameter columns that vary across the cases (progress labels),
+// and for a varying nested stage the short form its labels show: the stage
+// with only its nested parameters that vary (the whole resolved call of
+// screened_poisson is some 300 characters).
 void MarkVarying(std::vector<Case>* cases) {
   std::map<std::string, std::set<std::string>> values;
   for (const auto& c : *cases)
@@ -124,6 +162,41 @@ void MarkVarying(std::vector<Case>* cases) {
   for (const auto& [k, vs] : values)
     if (vs.size() > 1) varying.push_back(k);
   for (auto& c : *cases) c.varying = varying;
+  for (const std::string& k : varying) {
+    // Each case's split value of column k; a column any case does not split
+    // is shown whole.
+    std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> split(cases->size());
+    bool nested = true;
+    for (std::size_t i = 0; i < cases->size() && nested; ++i) {
+      const auto& ps = (*cases)[i].params;
+      const auto it = std::find_if(ps.begin(), ps.end(), [&](const auto& e) { return e.first == k; });
+      nested = it != ps.end() && SplitNestedValue(it->second, &split[i].first, &split[i].second);
+    }
+    if (!nested) continue;
+    // Per nested stage, the keys whose values vary among the cases of that
+    // stage (a key missing from some of them counts as varying); another
+    // stage is told apart by its name.
+    std::map<std::string, std::map<std::string, std::set<std::string>>> seen;
+    std::map<std::string, std::map<std::string, std::size_t>> has;
+    std::map<std::string, std::size_t> count;
+    for (const auto& [stage, kv] : split) {
+      ++count[stage];
+      for (const auto& [nk, nv] : kv) {
+        seen[stage][nk].insert(nv);
+        ++has[stage][nk];
+      }
+    }
+    std::map<std::string, std::set<std::string>> differ;
+    for (const auto& [stage, keys] : seen)
+      for (const auto& [nk, vals] : keys)
+        if (vals.size() > 1 || has[stage][nk] != count[stage]) differ[stage].insert(nk);
+    for (std::size_t i = 0; i < cases->size(); ++i) {
+      std::string s;
+      for (const auto& [nk, nv] : split[i].second)
+        if (differ[split[i].first].count(nk)) s += (s.empty() ? "" : ", ") + nk + "=" + nv;
+      (*cases)[i].shown.emplace_back(k, split[i].first + (s.empty() ? "" : "(" + s + ")"));
+    }
+  }
 }
 
 }  // namespace

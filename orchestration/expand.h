@@ -35,6 +35,10 @@ struct Case {
   std::vector<std::pair<std::string, std::string>> params;
   // Parameter columns that vary across the experiment's cases (for labels).
   std::vector<std::string> varying;
+  // Labels' short forms of varying nested-stage values: the stage and only
+  // the nested parameters that vary across the cases ("screened_poisson(
+  // point_weight=4)" for the whole resolved call), by column.
+  std::vector<std::pair<std::string, std::string>> shown;
   // Short human label: "bunny n=20 | grid | MC".
   std::string Label() const;
 };

@@ -59,13 +59,16 @@ TEST(SaveOutputsTest, MeshesAndTangencyPointsAreWrittenPerCase) {
 
 // Several varying nested stage parameters make the case label longer than a
 // file name may be (255 bytes): it was "File name too long"; the stem is now
-// capped (first 120 label characters, a hash, the case id).
+// capped (first 120 label characters, a hash, the case id). Labels name only
+// the nested parameters that vary (not the whole resolved call), so it takes
+// several varying ones to reach the cap.
 TEST(SaveOutputsTest, LongLabelsGiveCappedUniqueFileNames) {
   const auto dir = testing::TempDir("save_outputs_long");
   std::string recs;
-  for (const char* w : {"1", "4"}) {
-    recs += std::string("            - {stage: screened_poisson, params: {depth: 6, min_depth: 4, point_weight: ") + w +
-            ", samples_per_node: 1.5, scale: 1.25, open_retries: 0, manifold: true, threads: 1}}\n";
+  for (const char* p : {"depth: 6, min_depth: 4, point_weight: 1, samples_per_node: 1.5, scale: 1.25",
+                        "depth: 5, min_depth: 3, point_weight: 4, samples_per_node: 2, scale: 1.3"}) {
+    recs += std::string("            - {stage: screened_poisson, params: {") + p +
+            ", open_retries: 0, manifold: true, threads: 1}}\n";
   }
   testing::WriteFile(dir / "e.yaml",
                      "name: savelong\nsave_outputs: true\n"
@@ -89,6 +92,8 @@ TEST(SaveOutputsTest, LongLabelsGiveCappedUniqueFileNames) {
       EXPECT_NE(file.find("__" + t.Cell(i, "case_id")), std::string::npos) << file;
       EXPECT_EQ(file.rfind("sphere_reconstructor=", 0), 0u) << file;  // still starts with the label
       EXPECT_NE(file.find('~'), std::string::npos) << file;  // capped, with the hash
+      EXPECT_NE(file.find("point_weight="), std::string::npos) << file;  // what varies
+      EXPECT_EQ(file.find("threads="), std::string::npos) << file;       // what does not
       names.insert(file);
     }
   }

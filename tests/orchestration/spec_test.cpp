@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 
@@ -94,6 +95,48 @@ TEST_F(ExperimentTest, OverridesChangeParametersAndCases) {
 // call (rfta's reconstructors: the official screened Poisson), the given keys
 // on top; another stage, or a parameter left out, as before. The same rule
 // for the YAML path and for programmatic parameters (Registry::Resolve).
+// A varying nested stage is labelled by what varies in it, not by its whole
+// resolved call (screened_poisson's is some 300 characters): the progress line
+// and --save-outputs' file names stay readable.
+TEST_F(ExperimentTest, LabelsShowOnlyTheNestedParametersThatVary) {
+  const std::string yaml = R"(name: t
+datasets:
+  - name: shapes
+    shapes: [sphere]
+inputs:
+  - name: grid
+    pipeline: [{stage: sdf_grid, params: {n: 10}}]
+methods:
+  - name: RFTA
+    pipeline:
+      - stage: rfta
+        params:
+          iterations: [2, 3]
+          reconstructor:
+            - {stage: screened_poisson, params: {point_weight: 4}}
+            - screened_poisson
+            - ball_pivoting
+metrics: [chamfer]
+)";
+  const auto cases = ExpandCases(LoadExperiment(Write(yaml), {}, registry_), registry_);
+  ASSERT_EQ(cases.size(), 6u);
+  std::set<std::string> labels;
+  for (const auto& c : cases) {
+    const std::string l = c.Label();
+    labels.insert(l);
+    EXPECT_LT(l.size(), 160u) << l;
+    EXPECT_EQ(l.find("samples_per_node"), std::string::npos) << l;  // the same in both screened_poisson calls
+  }
+  EXPECT_EQ(labels.size(), cases.size()) << "every case keeps a label of its own";
+  auto has = [&](const std::string& piece) {
+    return std::any_of(labels.begin(), labels.end(), [&](const std::string& l) { return l.find(piece) != std::string::npos; });
+  };
+  EXPECT_TRUE(has("reconstructor=screened_poisson(point_weight=4"));
+  EXPECT_TRUE(has("reconstructor=screened_poisson(point_weight=10"));
+  EXPECT_TRUE(has("reconstructor=ball_pivoting |"));
+  EXPECT_TRUE(has("iterations=3"));
+}
+
 TEST_F(ExperimentTest, NestedStageOfTheDefaultsNameInheritsTheDefaultCall) {
   const std::string yaml = R"(name: t
 datasets:
