@@ -132,9 +132,11 @@ int CmdDescribe(const Registry& registry, const std::string& name) {
   return 0;
 }
 
-int WriteTablesFor(const std::vector<TableSpec>& specs, const std::string& dir, bool print) {
+int WriteTablesFor(const std::vector<TableSpec>& specs, const std::string& dir, bool print,
+                   const std::vector<std::string>& sources = {}) {
   std::vector<std::string> warnings;
-  const CsvTable t = ReadResultsDir(dir, &warnings);  // results.csv and every shard's file
+  // results.csv and every shard's file of DIR, or the union of the sources.
+  const CsvTable t = sources.empty() ? ReadResultsDir(dir, &warnings) : ReadResults(sources, &warnings);
   const auto tables = BuildTables(specs, t, &warnings);
   for (const auto& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
   const std::string md = WriteTables(tables, (fs::path(dir) / "tables").string());
@@ -169,13 +171,25 @@ int CmdRun(Registry& registry, const Args& args, int argc, char** argv) {
 }
 
 int CmdTable(const Args& args) {
-  if (args.positional.size() != 1) Usage("table needs a results directory");
+  if (args.positional.empty()) Usage("table needs a results directory");
   const std::string dir = args.positional[0];
-  const std::string spec_file = args.Get("--tables", (fs::path(dir) / "config.resolved.yaml").string());
-  if (!fs::exists(spec_file)) throw Error(spec_file + ": not found (is " + dir + " a results directory?)");
+  if (args.positional.size() == 1 && !args.Has("--out")) {
+    const std::string spec_file = args.Get("--tables", (fs::path(dir) / "config.resolved.yaml").string());
+    if (!fs::exists(spec_file)) throw Error(spec_file + ": not found (is " + dir + " a results directory?)");
+    const auto specs = LoadTableSpecs(spec_file);
+    if (specs.empty()) throw Error(spec_file + ": defines no tables");
+    return WriteTablesFor(specs, dir, true);
+  }
+  // Several runs (directories or results .csv files) into one table.
+  if (!args.Has("--tables")) Usage("table with several results (or --out) needs --tables EXP.yaml");
+  if (!args.Has("--out")) Usage("table with several results needs --out DIR for the tables");
+  const std::string spec_file = args.Get("--tables");
+  if (!fs::exists(spec_file)) throw Error(spec_file + ": not found");
   const auto specs = LoadTableSpecs(spec_file);
   if (specs.empty()) throw Error(spec_file + ": defines no tables");
-  return WriteTablesFor(specs, dir, true);
+  const std::string out = args.Get("--out");
+  fs::create_directories(out);
+  return WriteTablesFor(specs, out, true, args.positional);
 }
 
 Mesh LoadMeshNormalized(const std::string& path, bool normalize, int rotate_seed, Similarity* applied = nullptr) {
@@ -423,7 +437,7 @@ int main(int argc, char** argv) {
       LoadPlugins(registry, a);
       return CmdRun(registry, a, argc, argv);
     }
-    if (cmd == "table") return CmdTable(Parse(argc, argv, 2, {"--tables"}, {}));
+    if (cmd == "table") return CmdTable(Parse(argc, argv, 2, {"--tables", "--out"}, {}));
     if (cmd == "sdf")
       return CmdSdf(Parse(argc, argv, 2, {"--n", "--random", "--rotate", "--threads"}, {"--no-normalize", "--curve"}));
     if (cmd == "eval") return CmdEval(argc, argv);

@@ -38,9 +38,13 @@ const std::map<std::string, CommandHelp>& HelpTable() {
                "  --no-isolate                run cases in this process (no worker processes)\n"
                "  --quiet                     no progress line, no tables on stdout\n"
                "  --save-outputs              each case's mesh/curve/points into DIR/outputs/\n"}},
-      {"table", {"arcs table RESULTS_DIR [--tables EXP.yaml]",
-                 "Rebuilds the tables (.md .csv .tex) from RESULTS_DIR/results.csv without re-running.\n\n"
-                 "  --tables EXP.yaml   take the `tables:` from this file (default RESULTS_DIR/config.resolved.yaml)\n"}},
+      {"table", {"arcs table RESULTS_DIR [--tables EXP.yaml]\n"
+                 "       arcs table RESULTS... --tables EXP.yaml --out DIR",
+                 "Rebuilds the tables (.md .csv .tex) from RESULTS_DIR/results.csv without re-running.\n"
+                 "With several RESULTS (results directories or results .csv files: a table run in parts,\n"
+                 "e.g. docs/runs/), one table of their union (rows keyed by case id) into DIR/tables/.\n\n"
+                 "  --tables EXP.yaml   take the `tables:` from this file (default RESULTS_DIR/config.resolved.yaml)\n"
+                 "  --out DIR           where the merged tables go (required with several RESULTS)\n"}},
       {"list", {"arcs list", "Every registered stage (built-in and plugins), by role.\n"}},
       {"describe", {"arcs describe STAGE",
                     "A stage's parameters: type, default (the paper's), allowed range and doc line.\n"

@@ -215,12 +215,11 @@ std::uintmax_t RepairTornTail(const std::string& path) {
   return text.size() - keep;
 }
 
-CsvTable ReadResultsDir(const std::string& dir, std::vector<std::string>* warnings) {
-  const std::vector<std::string> files = ResultsFiles(dir);
-  if (files.empty())
-    throw Error((fs::path(dir) / "results.csv").string() + ": no results file (run the experiment first)");
-  CsvTable all;
-  std::map<std::string, size_t> by_id;  // case id -> row in `all`
+namespace {
+
+// Appends the rows of results files to `all`, deduplicated by case id.
+void MergeResultsFiles(const std::vector<std::string>& files, CsvTable& all, std::map<std::string, size_t>& by_id,
+                       std::vector<std::string>* warnings) {
   for (const auto& f : files) {
     std::string text = ReadText(f);
     const size_t keep = CompleteCsvPrefix(text);
@@ -259,6 +258,17 @@ CsvTable ReadResultsDir(const std::string& dir, std::vector<std::string>* warnin
       if (new_ok || !old_ok) all.rows[it->second] = std::move(row);
     }
   }
+}
+
+}  // namespace
+
+CsvTable ReadResultsDir(const std::string& dir, std::vector<std::string>* warnings) {
+  const std::vector<std::string> files = ResultsFiles(dir);
+  if (files.empty())
+    throw Error((fs::path(dir) / "results.csv").string() + ": no results file (run the experiment first)");
+  CsvTable all;
+  std::map<std::string, size_t> by_id;  // case id -> row in `all`
+  MergeResultsFiles(files, all, by_id, warnings);
   if (warnings) {
     const fs::path idf = fs::path(dir) / "experiment.id";
     if (fs::exists(idf)) {
@@ -269,6 +279,26 @@ CsvTable ReadResultsDir(const std::string& dir, std::vector<std::string>* warnin
         warnings->push_back(dir + ": " + std::to_string(by_id.size()) + " of " + std::to_string(expected) +
                             " cases have results (" + std::to_string(expected - static_cast<long>(by_id.size())) +
                             " missing: a shard not run, still running, or interrupted?)");
+    }
+  }
+  return all;
+}
+
+CsvTable ReadResults(const std::vector<std::string>& sources, std::vector<std::string>* warnings) {
+  if (sources.empty()) throw Error("no results given (a results directory or a results .csv file)");
+  CsvTable all;
+  std::map<std::string, size_t> by_id;
+  for (const std::string& src : sources) {
+    std::error_code ec;
+    if (fs::is_directory(src, ec)) {
+      const std::vector<std::string> files = ResultsFiles(src);
+      if (files.empty())
+        throw Error((fs::path(src) / "results.csv").string() + ": no results file (run the experiment first)");
+      MergeResultsFiles(files, all, by_id, warnings);
+    } else if (fs::is_regular_file(src, ec)) {
+      MergeResultsFiles({src}, all, by_id, warnings);
+    } else {
+      throw Error(src + ": no such results directory or file");
     }
   }
   return all;

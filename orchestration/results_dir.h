@@ -67,6 +67,13 @@ std::uintmax_t RepairTornTail(const std::string& path);
 // results file. Warnings: cases the experiment has that no file has yet.
 CsvTable ReadResultsDir(const std::string& dir, std::vector<std::string>* warnings = nullptr);
 
+// The union of several runs' results, merged as ReadResultsDir merges one
+// directory's files: each source a results directory (all its files) or one
+// results .csv file (e.g. a part of a long table kept in the repository,
+// docs/runs/). A run made in parts (other grids, meshes or methods, other
+// sessions) gives one table. Throws Error naming a source that is neither.
+CsvTable ReadResults(const std::vector<std::string>& sources, std::vector<std::string>* warnings = nullptr);
+
 // An exclusive advisory lock (flock) on a file, released when the object
 // dies or the process does (kill -9 included).
 class FileLock {

@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -158,6 +159,44 @@ TEST_F(ResultsDirTest, ReadersSeeTheUnionOfEveryShardOnce) {
   EXPECT_NE(all.find("4 of 6 cases"), std::string::npos) << all;
   EXPECT_EQ(Slurp(dir_ / "results.1-of-2.csv").back(), '5') << "a reader does not change a file";
   EXPECT_THROW(ReadResultsDir((dir_ / "nothing").string()), Error);
+}
+
+// A table run in parts (other sessions, grids, methods): the union of results
+// directories and kept results files, one row per case id, an ok row over a
+// failed one; a source that is neither is an error naming it.
+TEST_F(ResultsDirTest, PartsOfARunMergeIntoOneTable) {
+  const fs::path a = dir_ / "a", b = dir_ / "b";
+  fs::create_directories(a);
+  fs::create_directories(b);
+  testing::WriteFile(a / "results.csv", "case_id,status,method,n,x\np,ok,MC,10,1\nq,failed,RFTA,10,\n");
+  testing::WriteFile(b / "results.0-of-2.csv", "case_id,status,method,n,x\nq,ok,RFTA,10,2\n");
+  testing::WriteFile(dir_ / "kept.csv", "case_id,status,method,n,x,host\nr,ok,RFTA,20,3,h\np,ok,MC,10,1,h\n");
+  const CsvTable t = ReadResults({a.string(), b.string(), (dir_ / "kept.csv").string()});
+  ASSERT_EQ(t.rows.size(), 3u);
+  std::map<std::string, std::string> x;
+  for (size_t r = 0; r < t.rows.size(); ++r) x[t.Cell(r, "case_id") + ":" + t.Cell(r, "status")] = t.Cell(r, "x");
+  EXPECT_EQ(x, (std::map<std::string, std::string>{{"p:ok", "1"}, {"q:ok", "2"}, {"r:ok", "3"}}));
+  EXPECT_NE(std::find(t.header.begin(), t.header.end(), "host"), t.header.end());
+  // Tables over the union: n = 10 has MC and RFTA, n = 20 RFTA only.
+  TableSpec spec;
+  spec.name = "t";
+  spec.metrics = {"x"};
+  spec.rows = "n";
+  spec.columns = "method";
+  std::vector<std::string> warnings;
+  const auto tables = BuildTables({spec}, t, &warnings);
+  ASSERT_EQ(tables.size(), 1u);
+  std::string cells;
+  for (const auto& row : tables[0].cells)
+    for (const auto& c : row) cells += c + "|";
+  EXPECT_EQ(cells, "10|1|2|20|–|3|") << "rows n = 10, 20; columns MC, RFTA";
+  try {
+    ReadResults({a.string(), (dir_ / "missing").string()});
+    FAIL() << "a missing source must be an error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("missing"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ReadResults({}), Error);
 }
 
 TEST_F(ResultsDirTest, ALockIsHeldUntilItsHolderDies) {
