@@ -13,8 +13,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <random>
 
 namespace arcs::testing {
@@ -50,6 +53,19 @@ TEST(CliTool, VersionAndGlobalOptionsAnywhere) {
   const CmdResult v = RunCmd(Arcs() + " --version");
   EXPECT_EQ(v.code, 0);
   EXPECT_EQ(v.output.rfind("arcs 0.1.0", 0), 0u) << v.output;
+  // The revision is the build's stamp (the code compiled, "-dirty" when
+  // tracked files differed), not the one cmake saw when it configured.
+  if (RunCmd(std::string("git -C '") + ARCS_SOURCE_DIR + "' rev-parse --short=12 HEAD").code == 0) {
+    std::string bin = Arcs();  // quoted for the shell
+    bin.erase(std::remove(bin.begin(), bin.end(), '\''), bin.end());
+    const std::filesystem::path stamp = std::filesystem::path(bin).parent_path().parent_path() / "arcs_revision.txt";
+    ASSERT_TRUE(std::filesystem::exists(stamp)) << stamp;
+    std::ifstream in(stamp);
+    std::string rev;
+    std::getline(in, rev);
+    ASSERT_GE(rev.size(), 12u) << rev;
+    EXPECT_NE(v.output.find("(git " + rev + ","), std::string::npos) << v.output << " vs stamp " << rev;
+  }
   const CmdResult p = RunCmd(Arcs() + " --plugin '" + ARCS_EXAMPLE_PLUGIN + "' --threads 1 list");
   ASSERT_EQ(p.code, 0) << p.output;
   EXPECT_NE(p.output.find(ARCS_EXAMPLE_PLUGIN), std::string::npos) << p.output;  // the plugin's stage, with its origin
