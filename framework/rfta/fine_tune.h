@@ -86,6 +86,14 @@ class TuningSurface {
   virtual double Closest(const Vec3& q, Vec3* point, double bound) const = 0;
   // Generalised winding numbers of the rows of Q (> 0.5 = inside).
   virtual VectorXd WindingNumbers(const MatrixX3d& Q) const = 0;
+  // ClosestPoints and WindingNumbers of the same rows; a surface that can
+  // answer both from one search does (the mesh: the inside test from the
+  // closest point's pseudonormal).
+  virtual void ClosestPointsAndWindingNumbers(const MatrixX3d& Q, VectorXd* sq_dist, MatrixX3d* points,
+                                              VectorXd* winding) const {
+    ClosestPoints(Q, sq_dist, points);
+    *winding = WindingNumbers(Q);
+  }
 };
 
 // A triangle mesh already in the unit frame as a TuningSurface (the 3D path).
