@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 
 namespace arcs::testing {
@@ -58,11 +59,14 @@ TEST(CliTool, VersionAndGlobalOptionsAnywhere) {
   if (RunCmd(std::string("git -C '") + ARCS_SOURCE_DIR + "' rev-parse --short=12 HEAD").code == 0) {
     std::string bin = Arcs();  // quoted for the shell
     bin.erase(std::remove(bin.begin(), bin.end(), '\''), bin.end());
-    const std::filesystem::path stamp = std::filesystem::path(bin).parent_path().parent_path() / "arcs_revision.txt";
+    const std::filesystem::path stamp =
+        std::filesystem::path(bin).parent_path().parent_path() / "arcs_revision_stamp.cpp";
     ASSERT_TRUE(std::filesystem::exists(stamp)) << stamp;
     std::ifstream in(stamp);
-    std::string rev;
-    std::getline(in, rev);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::size_t q0 = text.find("SetGitRevision(\""), q1 = text.find('"', q0 + 16);
+    ASSERT_NE(q0, std::string::npos) << text;
+    const std::string rev = text.substr(q0 + 16, q1 - q0 - 16);
     ASSERT_GE(rev.size(), 12u) << rev;
     EXPECT_NE(v.output.find("(git " + rev + ","), std::string::npos) << v.output << " vs stamp " << rev;
   }
