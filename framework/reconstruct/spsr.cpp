@@ -640,6 +640,26 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
     }
   }, 4096);
   std::vector<double> sval(ns);
+  // Row i of (K + beta S) v, the screening read from sval (beta times the
+  // samples' values of v, kept current by the caller).
+  auto row_product = [&](std::int64_t i, const std::vector<double>& v) {
+    double acc = 0;
+    const int* nb = &L.nbr[static_cast<std::size_t>(i) * 27];
+    if (complete && !L.on_face[i]) {
+      // A complete level: every neighbour exists at a fixed offset.
+      const double* vi = v.data() + i;
+      for (int o = 0; o < 27; ++o) acc += kin[o] * vi[off[o]];
+    } else if (!L.on_face[i]) {
+      for (int o = 0; o < 27; ++o)
+        if (nb[o] >= 0) acc += kin[o] * v[nb[o]];
+    } else {
+      for (int o = 0; o < 27; ++o)
+        if (nb[o] >= 0) acc += stencil(i, o) * v[nb[o]];
+    }
+    if (beta > 0)
+      for (int k = start[i]; k < start[i + 1]; ++k) acc += sw[k] * sval[slot[k]];
+    return acc;
+  };
   auto apply = [&](const std::vector<double>& v, std::vector<double>& out) {
     if (beta > 0) {
       ParallelFor(ns, [&](std::int64_t b, std::int64_t e) {
@@ -651,24 +671,7 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       }, 4096);
     }
     ParallelFor(nn, [&](std::int64_t b, std::int64_t e) {
-      for (std::int64_t i = b; i < e; ++i) {
-        double acc = 0;
-        const int* nb = &L.nbr[i * 27];
-        if (complete && !L.on_face[i]) {
-          // A complete level: every neighbour exists at a fixed offset.
-          const double* vi = v.data() + i;
-          for (int o = 0; o < 27; ++o) acc += kin[o] * vi[off[o]];
-        } else if (!L.on_face[i]) {
-          for (int o = 0; o < 27; ++o)
-            if (nb[o] >= 0) acc += kin[o] * v[nb[o]];
-        } else {
-          for (int o = 0; o < 27; ++o)
-            if (nb[o] >= 0) acc += stencil(i, o) * v[nb[o]];
-        }
-        if (beta > 0)
-          for (int k = start[i]; k < start[i + 1]; ++k) acc += sw[k] * sval[slot[k]];
-        out[i] = acc;
-      }
+      for (std::int64_t i = b; i < e; ++i) out[i] = row_product(i, v);
     }, 4096);
   };
   // Dot products in fixed blocks summed in order: the same at any thread count.
@@ -780,18 +783,7 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
     ParallelFor(static_cast<std::int64_t>(list.size()), [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t k = b; k < e; ++k) {
         const int i = list[k];
-        double acc = 0;
-        const int* nb = &L.nbr[static_cast<std::size_t>(i) * 27];
-        if (!L.on_face[i]) {
-          for (int o = 0; o < 27; ++o)
-            if (nb[o] >= 0) acc += kin[o] * zz[nb[o]];
-        } else {
-          for (int o = 0; o < 27; ++o)
-            if (nb[o] >= 0) acc += stencil(i, o) * zz[nb[o]];
-        }
-        if (beta > 0)
-          for (int t = start[i]; t < start[i + 1]; ++t) acc += sw[t] * sval[slot[t]];
-        const double delta = (rr[i] - acc) / diag[i];
+        const double delta = (rr[i] - row_product(i, zz)) / diag[i];
         zz[i] += delta;
         if (beta > 0)
           for (int t = start[i]; t < start[i + 1]; ++t) sval[slot[t]] += beta * sw[t] * delta;
