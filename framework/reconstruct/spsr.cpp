@@ -660,8 +660,9 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       for (int k = start[i]; k < start[i + 1]; ++k) acc += sw[k] * sval[slot[k]];
     return acc;
   };
-  auto apply = [&](const std::vector<double>& v, std::vector<double>& out) {
-    if (beta > 0) {
+  // sval = beta times the samples' values of v.
+  auto sample_values = [&](const std::vector<double>& v) {
+    if (beta > 0)
       ParallelFor(ns, [&](std::int64_t b, std::int64_t e) {
         for (std::int64_t t = b; t < e; ++t) {
           double s = 0;
@@ -669,7 +670,9 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
           sval[t] = beta * s;
         }
       }, 4096);
-    }
+  };
+  auto apply = [&](const std::vector<double>& v, std::vector<double>& out) {
+    sample_values(v);
     ParallelFor(nn, [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t i = b; i < e; ++i) out[i] = row_product(i, v);
     }, 4096);
@@ -789,16 +792,6 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
           for (int t = start[i]; t < start[i + 1]; ++t) sval[slot[t]] += beta * sw[t] * delta;
       }
     }, 2048);
-  };
-  auto sample_values = [&](const std::vector<double>& v) {
-    if (beta > 0)
-      ParallelFor(ns, [&](std::int64_t b, std::int64_t e) {
-        for (std::int64_t t = b; t < e; ++t) {
-          double s = 0;
-          for (int q = 0; q < 8; ++q) s += L.s_w[t][q] * v[L.s_corner[t][q]];
-          sval[t] = beta * s;
-        }
-      }, 4096);
   };
   auto relative_residual = [&]() {
     std::vector<double> ax(nn), rr(nn);
