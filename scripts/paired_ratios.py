@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""Per-shape ratios between methods, ours beside the paper's: a comparison the shape set cancels out of.
+
+Table 2's means depend on the shapes: the paper's are 99 rotated Thingi10K meshes, ours the 27
+bench meshes. A method's error divided by another method's error *on the same shape* mostly
+does not, so the paired ratios (RFTA / MC, RFTS / MC, RFTA / RFTS ...) say whether our method
+stands to the others as the paper's did, which the means cannot.
+
+    python3 scripts/paired_ratios.py docs/runs/sdf_methods_table/*.csv \
+        [--paper ${ARCS_SHARED_DIR}/reference/rfta_paper_results.csv] \
+        [--metric chamfer] [--pairs RFTA/MC,RFTS/MC,RFTA/RFTS]
+
+Ours: arcs results files (`arcs run` results.csv; rows merged by case id, `ok` rows only), method
+column `method`, grid column `sdf_grid.n`, genus `ref_genus`. Paper: the long per-shape file
+(mesh, genus, resolution, method, metric, error). A shape counts for a pair at a grid where both
+methods have a value. Printed per grid and genus group: shapes, median and geometric mean of
+the ratio (below 1: the first method is better on that shape).
+"""
+import argparse
+import csv
+import math
+import os
+import statistics
+import sys
+from collections import defaultdict
+
+# Our metric column -> the paper file's metric name; our method names -> the paper's.
+PAPER_METRIC = {"chamfer": "chf", "hausdorff": "hd", "e_sdf": "sdf"}
+GROUPS = [("all", lambda g: True), ("genus 0", lambda g: g == 0), ("genus > 0", lambda g: g > 0)]
+
+
+def read_ours(paths, metric):
+    """{(item, n): {"genus": g, METHOD: value}} from arcs results files (ok rows, merged by case id)."""
+    by_case = {}
+    for path in paths:
+        with open(path, newline="") as f:
+            for line_no, row in enumerate(csv.DictReader(f), start=2):
+                for col in ("case_id", "status", "item", "method", "sdf_grid.n", "ref_genus", metric):
+                    if col not in row:
+                        raise SystemExit("%s:%d: no column '%s' (an arcs results file of an sdf_grid experiment?)"
+                                         % (path, line_no, col))
+                old = by_case.get(row["case_id"])
+                if old is None or (old["status"] != "ok" and row["status"] == "ok"):
+                    by_case[row["case_id"]] = row
+    shapes = defaultdict(dict)
+    for row in by_case.values():
+        if row["status"] != "ok" or row[metric] in ("", "nan"):
+            continue
+        key = (row["item"], int(float(row["sdf_grid.n"])))
+        shapes[key]["genus"] = int(float(row["ref_genus"]))
+        shapes[key][row["method"].upper()] = float(row[metric])
+    return shapes
+
+
+def read_paper(path, metric):
+    """{(mesh, n): {"genus": g, METHOD: value}} from the paper's long per-shape file."""
+    want = PAPER_METRIC[metric]
+    shapes = defaultdict(dict)
+    with open(path, newline="") as f:
+        rows = csv.reader(line for line in f if not line.startswith("#"))
+        header = next(rows)
+        if header[:6] != ["mesh", "genus", "resolution", "method", "metric", "error"]:
+            raise SystemExit("%s: expected the columns mesh,genus,resolution,method,metric,error, got %s"
+                             % (path, ",".join(header)))
+        for r in rows:
+            if r[4] != want:
+                continue
+            key = (r[0], int(float(r[2])))
+            shapes[key]["genus"] = int(float(r[1]))
+            shapes[key][r[3].upper()] = float(r[5])
+    return shapes
+
+
+def ratio_stats(shapes, n, a, b, keep):
+    """(count, median, geometric mean) of a / b over the shapes at grid n with both values."""
+    ratios = [v[a] / v[b] for (item, grid), v in shapes.items()
+              if grid == n and keep(v["genus"]) and a in v and b in v and v[b] > 0 and v[a] > 0]
+    if not ratios:
+        return 0, float("nan"), float("nan")
+    gmean = math.exp(sum(math.log(x) for x in ratios) / len(ratios))
+    return len(ratios), statistics.median(ratios), gmean
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("results", nargs="+", help="arcs results files (results.csv)")
+    shared = os.environ.get("ARCS_SHARED_DIR", os.path.join(os.path.dirname(__file__), "..", "..", "shared"))
+    ap.add_argument("--paper", default=os.path.join(shared, "reference", "rfta_paper_results.csv"))
+    ap.add_argument("--metric", default="chamfer", choices=sorted(PAPER_METRIC))
+    ap.add_argument("--pairs", default="RFTA/MC,RFTS/MC,RFTA/RFTS")
+    args = ap.parse_args(argv)
+    pairs = []
+    for p in args.pairs.split(","):
+        if p.count("/") != 1:
+            raise SystemExit("--pairs: '%s' is not METHOD/METHOD" % p)
+        pairs.append(tuple(x.strip().upper() for x in p.split("/")))
+    ours = read_ours(args.results, args.metric)
+    paper = read_paper(args.paper, args.metric) if os.path.exists(args.paper) else {}
+    if not paper:
+        print("(no paper file at %s: ours only)" % args.paper, file=sys.stderr)
+    grids = sorted({n for _, n in ours})
+    head = "| n | group | " + " | ".join("%s ours | %s paper" % ("/".join(p), "/".join(p)) for p in pairs) + " |"
+    print("Paired %s ratios per shape: geometric mean (median) [shapes]\n" % args.metric)
+    print(head)
+    print("|---|---|" + "---:|" * (2 * len(pairs)))
+    for n in grids:
+        for name, keep in GROUPS:
+            cells = []
+            for a, b in pairs:
+                for src in (ours, paper):
+                    c, med, gm = ratio_stats(src, n, a, b, keep)
+                    cells.append("%.3f (%.3f) [%d]" % (gm, med, c) if c else "–")
+            print("| %d | %s | %s |" % (n, name, " | ".join(cells)))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
