@@ -15,7 +15,8 @@
 // their CG steps per level (default 40). RFTA_BENCH_FINE_SOLVER=cg_jacobi |
 // cg_gauss_seidel | gauss_seidel and RFTA_BENCH_GS_ITERS=K: screened Poisson's
 // solver above the complete level, for both surfaces (the stage's
-// fine_solver and gs_iters).
+// fine_solver and gs_iters). RFTA_BENCH_TUNING_CELL=F: rfta's tuning_cell (the
+// tuning surfaces no finer than F x the samples' spacing; default 0 = off).
 //
 //   rfta_bench [all | torus20 | torus40 | bunny20]
 //   rfta_bench scaling [SHAPE] [NMAX]
@@ -109,6 +110,7 @@ Outcome RunLibrary(const SdfSamples& samples, int iterations, int points_per_sph
     const auto solver = EnumFromName(std::span<const EnumName<SpsrOptions::FineSolver>>(kSpsrFineSolverNames), fs);
     o.poisson.fine_solver = o.tuning_poisson.fine_solver = solver;
   }
+  if (const char* tc = std::getenv("RFTA_BENCH_TUNING_CELL")) o.tuning_cell = std::atof(tc);
   if (const char* gi = std::getenv("RFTA_BENCH_GS_ITERS")) o.poisson.gs_iters = o.tuning_poisson.gs_iters = std::atoi(gi);
   RftaResult r = ReachForTheArcs(samples, o, ctx);
   Outcome out;

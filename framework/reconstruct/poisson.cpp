@@ -44,6 +44,8 @@ void PoissonOptions::Check() const {
   ARCS_CHECK_OPTION(gs_iters >= 1 && gs_iters <= 10000, "gs_iters", gs_iters, "an integer in [1, 10000]");
   ARCS_CHECK_OPTION(extract_quantile >= 0.0 && extract_quantile <= 1.0, "extract_quantile", extract_quantile,
                     "in [0, 1]");
+  ARCS_CHECK_OPTION(std::isfinite(extract_max_cell) && extract_max_cell >= 0.0 && extract_max_cell <= 1e9,
+                    "extract_max_cell", extract_max_cell, "in [0, 1e9]");
 }
 
 PoissonOptions OfficialRftaPoisson() {
@@ -373,6 +375,7 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
     so.fine_solver = options.fine_solver;
     so.gs_iters = options.gs_iters;
     so.extract_quantile = options.extract_quantile;
+    so.extract_max_cell = options.extract_max_cell;
     std::shared_ptr<SpsrWarmStart> state;
     const bool use_warm = warm && options.warm_start;
     if (use_warm) state = std::static_pointer_cast<SpsrWarmStart>(*warm);

@@ -105,6 +105,9 @@ struct PoissonOptions {
   // kArcs: the marching-cubes level is the samples' octree depth at this
   // quantile, rounded up (1 = the finest level); see spsr.h.
   double extract_quantile = 0.5;
+  // kArcs: when > 0, marching cubes no finer than cells of this side (input
+  // units); SpsrOptions::extract_max_cell. 0 = the quantile's level.
+  double extract_max_cell = 0;
   // false: point_weight is PCL's own number (PCL divides it by the point
   // count: per-point screening w * 2^d / N). true: it means what
   // PoissonRecon 16/18's --pointWeight means (the official RFTA passes 10):

@@ -905,6 +905,11 @@ Mesh Solver::Extract(double iso) {
     std::nth_element(ds.begin(), ds.begin() + static_cast<std::ptrdiff_t>(q), ds.end());
     L = std::clamp(static_cast<int>(std::ceil(ds[q] - 1e-9)), F_, Lmax_);
   }
+  if (o_.extract_max_cell > 0) {
+    // Cells of level l have side side_ / 2^l (input units).
+    const int coarsest = static_cast<int>(std::ceil(std::log2(side_ / o_.extract_max_cell) - 1e-9));
+    L = std::clamp(std::min(L, coarsest), F_, Lmax_);
+  }
   extract_level_ = L;
   const int res = 1 << L;
   const int up = Lmax_ - L;  // grid nodes of level L are nodes of the finest level
@@ -1370,6 +1375,8 @@ Mesh ReconstructSpsr(const PointCloud& oriented, const SpsrOptions& options, con
                     "in [1, 10000]");
   ARCS_CHECK_OPTION(options.kernel_depth_offset >= 0 && options.kernel_depth_offset <= 6, "kernel_depth_offset",
                     options.kernel_depth_offset, "in [0, 6]");
+  ARCS_CHECK_OPTION(std::isfinite(options.extract_max_cell) && options.extract_max_cell >= 0, "extract_max_cell",
+                    options.extract_max_cell, "finite and >= 0");
   Solver solver(options, ctx);
   return solver.Run(oriented, warm, info);
 }

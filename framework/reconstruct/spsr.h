@@ -78,6 +78,11 @@ struct SpsrOptions {
   // up (1 = the finest level with cells). The solution is the same; a finer
   // level only resolves it more finely, with more triangles.
   double extract_quantile = 0.5;
+  // When > 0 (input units): no finer than the coarsest level whose cells
+  // are at most this side (the quantile's level when that is coarser). RFTA
+  // sets it for its fine-tuning surfaces from the SDF samples' spacing
+  // (rfta `tuning_cell`), which need not be resolved as finely as the final one.
+  double extract_max_cell = 0;
   // A marching-cubes node on the other side of the iso-value from all six
   // face neighbours (a one-node island: an 8-triangle component) takes their
   // mean instead.

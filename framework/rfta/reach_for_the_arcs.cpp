@@ -4,6 +4,7 @@
 #include "framework/rfta/sphere_set.h"
 
 #include <chrono>
+#include <cmath>
 #include <string>
 
 namespace arcs {
@@ -16,6 +17,8 @@ void RftaOptions::Check() const {
   tuning_poisson.Check();
   poisson_2d.Check();
   tuning_poisson_2d.Check();
+  ARCS_CHECK_OPTION(std::isfinite(tuning_cell) && tuning_cell >= 0 && tuning_cell <= 100, "tuning_cell", tuning_cell,
+                    "in [0, 100]");
 }
 
 SurfaceReconstructor DefaultRftaReconstructor(int dim, const RftaOptions& options, bool tuning, const Context& ctx) {
@@ -98,8 +101,11 @@ RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options
 
   // 3. Fine-tuning against the tuning reconstructor's surfaces (Alg. 3).
   t0 = Clock::now();
+  RftaOptions tuned = options;
+  if (dim == 3 && options.tuning_cell > 0 && options.tuning_poisson.extract_max_cell == 0)
+    tuned.tuning_poisson.extract_max_cell = options.tuning_cell * SampleSpacing(samples);
   const SurfaceReconstructor tuning =
-      parts.tuning ? parts.tuning : DefaultRftaReconstructor(dim, options, /*tuning=*/true, ctx);
+      parts.tuning ? parts.tuning : DefaultRftaReconstructor(dim, tuned, /*tuning=*/true, ctx);
   if (dim == 2) {
     const PointsToCurve curve = [&](const PointCloud& pc) {
       Surface s = tuning(pc);

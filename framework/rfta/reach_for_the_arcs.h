@@ -61,6 +61,12 @@ struct RftaOptions {
   // the tuning surfaces warm-start from the previous iteration's solution.
   PoissonOptions poisson = OfficialRftaPoisson();
   PoissonOptions tuning_poisson = OfficialRftaPoisson();
+  // 3D: when > 0, the default tuning surfaces are extracted no finer than
+  // cells of tuning_cell x the samples' spacing (SampleSpacing; unless
+  // tuning_poisson.extract_max_cell is set): fine-tuning needs closest points
+  // and sides, not the final surface's detail. 0 = the final surface's level
+  // (the official code: one call for both). docs/rfta_table1.md, session 19.
+  double tuning_cell = 0;
   Poisson2DOptions poisson_2d;         // 2D final curve
   // 2D curves inside fine-tuning: the same as the final one (as in 3D, where
   // the official code makes every surface with one call).

@@ -1,6 +1,7 @@
 #include "framework/rfta/sphere_set.h"
 
 #include "framework/rfta/sphere_tree.h"
+#include "framework/spatial/knn.h"
 #include "framework/util/parallel.h"
 
 #include "framework/error.h"
@@ -121,6 +122,37 @@ int RasterResolutionHeuristic(std::int64_t num_samples, int dim, int cap) {
 
 int LocalSearchHeuristic(std::int64_t num_samples, int dim) {
   return std::max(1, static_cast<int>(std::ceil(2.0 * SamplesPerAxis(num_samples, dim))));
+}
+
+double SampleSpacing(const SdfSamples& samples) {
+  if (samples.grid) {
+    double h = 0;
+    for (int a = 0; a < samples.grid->dim; ++a) {
+      const double s = samples.grid->Spacing(a);
+      if (s > 0 && (h == 0 || s < h)) h = s;
+    }
+    if (h > 0) return h;
+  }
+  const std::int64_t n = samples.points.rows();
+  if (n < 2) return 0;
+  MatrixX3d P = MatrixX3d::Zero(n, 3);
+  P.leftCols(std::min<Eigen::Index>(3, samples.points.cols())) =
+      samples.points.leftCols(std::min<Eigen::Index>(3, samples.points.cols()));
+  const KdTree3 tree(P);
+  Eigen::Matrix<int, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> nn;
+  tree.KnnBatch(P, 2, &nn);
+  std::vector<double> d;
+  d.reserve(static_cast<std::size_t>(n));
+  for (std::int64_t i = 0; i < n; ++i) {
+    // The nearest other sample (a point's own index can come second on duplicates).
+    const int j = nn(i, 0) == i ? nn(i, 1) : nn(i, 0);
+    if (j < 0) continue;
+    const double dist = (P.row(i) - P.row(j)).norm();
+    if (dist > 0) d.push_back(dist);
+  }
+  if (d.empty()) return 0;
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+  return d[d.size() / 2];
 }
 
 FreeSpaceSamples MergeFreeSpace(const UnitFrame& frame, const MatrixX3d& pos, const MatrixX3d& neg) {

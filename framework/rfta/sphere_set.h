@@ -101,6 +101,11 @@ int RasterResolutionHeuristic(std::int64_t num_samples, int dim, int cap = 1024)
 // The official k_search = ceil(2 n) (paper §4.1).
 int LocalSearchHeuristic(std::int64_t num_samples, int dim);
 
+// The samples' spacing (input units): a grid's smallest node spacing, else
+// the median distance from a sample to its nearest other sample (0 with
+// fewer than 2 distinct samples). RFTA's `tuning_cell` is a fraction of it.
+double SampleSpacing(const SdfSamples& samples);
+
 // Free-space samples of both signs (the output of an empty-space sampler).
 // sign[j] = +1: point j samples the free space of the positive spheres (it is
 // outside all of them); -1: of the negative spheres.

@@ -48,6 +48,10 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
       .Double("extract_quantile", &O::extract_quantile,
               "backend arcs: marching cubes at the samples' octree depth at this quantile, rounded up (1 = finest)",
               Closed(0.0, 1.0))
+      .Double("extract_max_cell", &O::extract_max_cell,
+              "backend arcs: when > 0, marching cubes no finer than cells of this side (input units; 0 = the "
+              "quantile's level); rfta sets it for its tuning surfaces from tuning_cell",
+              Closed(0.0, 1e9))
       .Bool("warm_start", &O::warm_start,
             "backend arcs: a repeated call for one case (RFTA's fine-tuning) starts from the previous solution")
       .Bool("area_normalized", &O::area_normalized,

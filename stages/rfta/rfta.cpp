@@ -11,6 +11,7 @@
 // `screened_poisson_2d` with its defaults (stages/reconstruct/
 // screened_poisson_2d.h); a configured 2D reconstructor is used as given.
 #include "framework/rfta/reach_for_the_arcs.h"
+#include "framework/rfta/sphere_set.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
 #include "stages/reconstruct/screened_poisson_2d.h"
@@ -33,6 +34,7 @@ RftaOptions DecodeRftaOptions(const ParamMap& p) {
                                               FineTuneOptions::kFinalCheckNames),
                                           p.GetString("final_check"));
   o.drop_infeasible_components = p.GetBool("drop_infeasible_components");
+  o.tuning_cell = p.GetDouble("tuning_cell");
   const std::string sc = p.GetString("on_sign_conflict");
   o.on_sign_conflict = sc == "error"    ? RftaOptions::OnSignConflict::kError
                        : sc == "ignore" ? RftaOptions::OnSignConflict::kIgnore
@@ -65,8 +67,18 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
   const RftaOptions options = DecodeRftaOptions(p);
   const StageSpec final_spec =
       dim == 2 ? PlanarReconstructorFor(p.GetStage("reconstructor"), d.registry) : p.GetStage("reconstructor");
-  const StageSpec tuning_spec = dim == 2 ? PlanarReconstructorFor(p.GetStage("tuning_reconstructor"), d.registry)
+  StageSpec tuning_spec = dim == 2 ? PlanarReconstructorFor(p.GetStage("tuning_reconstructor"), d.registry)
                                          : p.GetStage("tuning_reconstructor");
+  // tuning_cell: the tuning surfaces' marching cubes no finer than that
+  // fraction of the samples' spacing (the nested screened_poisson's
+  // extract_max_cell, unless it is set there).
+  const double tuning_cell = p.GetDouble("tuning_cell");
+  if (dim == 3 && tuning_cell > 0 && tuning_spec.params.Has("extract_max_cell") &&
+      tuning_spec.params.GetDouble("extract_max_cell") == 0) {
+    const double cell = tuning_cell * SampleSpacing(samples);
+    tuning_spec.params.Set("extract_max_cell", cell);
+    d.SetMetric("rfta_tuning_max_cell", cell);
+  }
   RftaParts parts;
   // The sampler and the final reconstructor run on the case itself (they see
   // all of it and write their metrics and slots); the tuning reconstructor
@@ -161,6 +173,11 @@ void RegisterRfta(Registry& r) {
       .Stage("tuning_reconstructor", "reconstructor", OfficialPoissonSpec(),
              "reconstructor inside fine-tuning (default: the same call as the final one, as the official code; "
              "warm-started from the previous iteration)")
+      .Double("tuning_cell", 0.0,
+              "3D: when > 0, the tuning surfaces' marching cubes no finer than this fraction of the samples' "
+              "spacing (sets the tuning screened_poisson's extract_max_cell; 0 = the final surface's level, "
+              "as the official code; docs/rfta_table1.md session 19)",
+              0.0, 100.0)
       .Bool("drop_infeasible_components", true,
             "3D: remove final components most of whose vertices lie inside a sample's sphere by more than tol "
             "(ruled out by the samples; not in the paper, the official code keeps them)");

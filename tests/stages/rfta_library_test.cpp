@@ -3,6 +3,7 @@
 // and points of the `rfta` stage with its defaults (registered nested stages),
 // in 3D (torus, n = 10) and 2D (star, n = 12); the stage writes each part's
 // metrics; a reconstructor of the wrong dimension is a clear error.
+#include "framework/error.h"
 #include "framework/geometry/builtin_shapes.h"
 #include "framework/geometry/curves.h"
 #include "framework/geometry/normalize.h"
@@ -65,6 +66,55 @@ TEST(RftaLibrary, DefaultsEqualTheStageIn3D) {
                         "arc_dropped", "rfta_projector_s", "rfta_points", "fine_tune_iterations",
                         "fine_tune_reconstruct_s", "rfta_fine_tune_s", "poisson_depth", "rfta_final_s"})
     EXPECT_TRUE(Has(d, k)) << k;
+}
+
+TEST(RftaLibrary, SampleSpacingOfGridsAndScatteredSamples) {
+  Mesh torus = MakeTorus();
+  Normalize(&torus, NormalizeOptions{});
+  SdfGridOptions go;
+  go.n = 10;
+  EXPECT_DOUBLE_EQ(SampleSpacing(SampleSdfGrid(torus, go, Context(1))), 0.2);  // linspace(-1, 1, 11)
+  SdfSamples s;  // no grid: the median nearest-other-sample distance
+  s.points = MatrixXd::Zero(5, 3);
+  s.points.col(0) << 0.0, 0.1, 0.2, 0.5, 0.5;  // a duplicate does not count as its own neighbour at 0
+  s.values = VectorXd::Constant(5, 0.1);
+  EXPECT_NEAR(SampleSpacing(s), 0.1, 1e-12);
+  s.points = MatrixXd::Zero(1, 3);
+  s.values = VectorXd::Constant(1, 0.1);
+  EXPECT_EQ(SampleSpacing(s), 0.0);
+}
+
+TEST(RftaLibrary, TuningCellCoarsensTheTuningSurfacesInStageAndLibraryAlike) {
+  Mesh torus = MakeTorus();
+  Normalize(&torus, NormalizeOptions{});
+  SdfGridOptions go;
+  go.n = 10;
+  const SdfSamples s = SampleSdfGrid(torus, go, Context(1));
+  Registry r;
+  RegisterBuiltinStages(r);
+  ParamMap given;
+  given.Set("iterations", std::int64_t{3});
+  given.Set("tuning_cell", 0.6);
+  const CaseData d = RunRftaStage(r, s, given, 5);
+  ASSERT_TRUE(Has(d, "rfta_tuning_max_cell"));
+  for (const auto& [k, v] : d.metrics)
+    if (k == "rfta_tuning_max_cell") EXPECT_NEAR(v, 0.6 * 0.2, 1e-12);
+  RftaOptions o;
+  o.fine_tune.iterations = 3;
+  const RftaResult plain = ReachForTheArcs(s, o, Context(5));
+  o.tuning_cell = 0.6;
+  const RftaResult lib = ReachForTheArcs(s, o, Context(5));
+  ASSERT_TRUE(d.output.has_value());
+  const Mesh& m = std::get<Mesh>(lib.surface);
+  ASSERT_EQ(m.NumVertices(), d.output->NumVertices());
+  EXPECT_EQ((m.V - d.output->V).cwiseAbs().maxCoeff(), 0.0);
+  ASSERT_EQ(lib.points.Size(), d.points->Size());
+  EXPECT_EQ((lib.points.P - d.points->P).cwiseAbs().maxCoeff(), 0.0);
+  // Coarser tuning surfaces (cells 0.12 against about 0.025) move the points differently.
+  EXPECT_TRUE(plain.points.Size() != lib.points.Size() ||
+              (plain.points.P - lib.points.P).cwiseAbs().maxCoeff() > 0.0);
+  o.tuning_cell = -1;
+  EXPECT_THROW(ReachForTheArcs(s, o, Context(5)), OptionError);
 }
 
 TEST(RftaLibrary, DefaultsEqualTheStageIn2D) {

@@ -80,6 +80,33 @@ TEST(Spsr, SphereIsClosedRoundAndOutward) {
   EXPECT_LT(info.area, 1.6 * true_area);
 }
 
+TEST(Spsr, ExtractMaxCellCoarsensOnlyTheMarchingCubes) {
+  // A sphere of radius 0.5 (cube side 3.2 x 1 = 3.2): the median sample
+  // depth's level is finer than cells of side 0.1, so a 0.1 cap extracts at
+  // ceil(log2(3.2 / 0.1)) = 5, the complete level; a cap below the finest
+  // cell changes nothing. Both closed spheres of the right size.
+  const PointCloud pc = SpherePoints(3000, 0.5, Vec3::Zero(), 7);
+  SpsrInfo fine, coarse, same;
+  const Mesh a = ReconstructSpsr(pc, SpsrOptions{}, Context(1), nullptr, &fine);
+  SpsrOptions o;
+  o.extract_max_cell = 0.1;
+  const Mesh b = ReconstructSpsr(pc, o, Context(1), nullptr, &coarse);
+  o.extract_max_cell = 1e-6;
+  const Mesh c = ReconstructSpsr(pc, o, Context(1), nullptr, &same);
+  EXPECT_GT(fine.extract_depth, 5);
+  EXPECT_EQ(coarse.extract_depth, 5);
+  EXPECT_EQ(same.extract_depth, fine.extract_depth);
+  EXPECT_EQ(c.V, a.V);
+  EXPECT_EQ(c.F, a.F);
+  EXPECT_LT(b.NumVertices(), a.NumVertices() / 4);
+  const Topology t = ComputeTopology(b);
+  EXPECT_EQ(t.components, 1);
+  EXPECT_EQ(t.boundary_edges, 0);
+  EXPECT_NEAR(Volume(b), Volume(a), 0.05 * Volume(a));
+  o.extract_max_cell = -1;
+  EXPECT_THROW(ReconstructSpsr(pc, o, Context(1)), OptionError);
+}
+
 TEST(Spsr, TorusHasGenusOne) {
   const Mesh m = ReconstructSpsr(TorusPoints(4000, 3), SpsrOptions{}, Context(1));
   const Topology t = ComputeTopology(m);
