@@ -36,12 +36,17 @@ bool Has(const CaseData& d, const std::string& name) {
   return false;
 }
 
-TEST(RftaLibrary, DefaultsEqualTheStageIn3D) {
+// The normalised torus's exact SDF on the 11^3 nodes of [-1, 1]^3.
+SdfSamples TorusSamples10() {
   Mesh torus = MakeTorus();
   Normalize(&torus, NormalizeOptions{});
   SdfGridOptions go;
   go.n = 10;
-  const SdfSamples s = SampleSdfGrid(torus, go, Context(1));
+  return SampleSdfGrid(torus, go, Context(1));
+}
+
+TEST(RftaLibrary, DefaultsEqualTheStageIn3D) {
+  const SdfSamples s = TorusSamples10();
   Registry r;
   RegisterBuiltinStages(r);
   ParamMap given;
@@ -69,11 +74,7 @@ TEST(RftaLibrary, DefaultsEqualTheStageIn3D) {
 }
 
 TEST(RftaLibrary, SampleSpacingOfGridsAndScatteredSamples) {
-  Mesh torus = MakeTorus();
-  Normalize(&torus, NormalizeOptions{});
-  SdfGridOptions go;
-  go.n = 10;
-  EXPECT_DOUBLE_EQ(SampleSpacing(SampleSdfGrid(torus, go, Context(1))), 0.2);  // linspace(-1, 1, 11)
+  EXPECT_DOUBLE_EQ(SampleSpacing(TorusSamples10()), 0.2);  // linspace(-1, 1, 11)
   SdfSamples s;  // no grid: the median nearest-other-sample distance
   s.points = MatrixXd::Zero(5, 3);
   s.points.col(0) << 0.0, 0.1, 0.2, 0.5, 0.5;  // a duplicate does not count as its own neighbour at 0
@@ -85,11 +86,7 @@ TEST(RftaLibrary, SampleSpacingOfGridsAndScatteredSamples) {
 }
 
 TEST(RftaLibrary, TuningCellCoarsensTheTuningSurfacesInStageAndLibraryAlike) {
-  Mesh torus = MakeTorus();
-  Normalize(&torus, NormalizeOptions{});
-  SdfGridOptions go;
-  go.n = 10;
-  const SdfSamples s = SampleSdfGrid(torus, go, Context(1));
+  const SdfSamples s = TorusSamples10();
   Registry r;
   RegisterBuiltinStages(r);
   ParamMap given;
