@@ -21,6 +21,10 @@ void RftaOptions::Check() const {
                     "in [0, 100]");
 }
 
+double TuningMaxCell(const SdfSamples& samples, double tuning_cell) {
+  return samples.dim == 3 && tuning_cell > 0 ? tuning_cell * SampleSpacing(samples) : 0.0;
+}
+
 SurfaceReconstructor DefaultRftaReconstructor(int dim, const RftaOptions& options, bool tuning, const Context& ctx) {
   if (dim == 2) {
     const Poisson2DOptions o = tuning ? options.tuning_poisson_2d : options.poisson_2d;
@@ -101,11 +105,13 @@ RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options
 
   // 3. Fine-tuning against the tuning reconstructor's surfaces (Alg. 3).
   t0 = Clock::now();
-  RftaOptions tuned = options;
-  if (dim == 3 && options.tuning_cell > 0 && options.tuning_poisson.extract_max_cell == 0)
-    tuned.tuning_poisson.extract_max_cell = options.tuning_cell * SampleSpacing(samples);
-  const SurfaceReconstructor tuning =
-      parts.tuning ? parts.tuning : DefaultRftaReconstructor(dim, tuned, /*tuning=*/true, ctx);
+  SurfaceReconstructor tuning = parts.tuning;
+  if (!tuning) {
+    RftaOptions tuned = options;
+    if (tuned.tuning_poisson.extract_max_cell == 0)
+      tuned.tuning_poisson.extract_max_cell = TuningMaxCell(samples, options.tuning_cell);
+    tuning = DefaultRftaReconstructor(dim, tuned, /*tuning=*/true, ctx);
+  }
   if (dim == 2) {
     const PointsToCurve curve = [&](const PointCloud& pc) {
       Surface s = tuning(pc);

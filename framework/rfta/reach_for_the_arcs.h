@@ -117,6 +117,11 @@ RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options
 // (the final one, or the one inside fine-tuning): screened Poisson in 3D
 // (automatic depth resolved first, as the `screened_poisson` stage does), our
 // 2D screened Poisson in 2D. `ctx` must outlive the returned function.
+// The tuning surfaces' cell cap (screened Poisson's extract_max_cell, input
+// units) that `tuning_cell` asks for on these samples: tuning_cell x
+// SampleSpacing in 3D, 0 when tuning_cell is 0 or the samples are 2D.
+double TuningMaxCell(const SdfSamples& samples, double tuning_cell);
+
 SurfaceReconstructor DefaultRftaReconstructor(int dim, const RftaOptions& options, bool tuning, const Context& ctx);
 
 }  // namespace arcs

@@ -11,7 +11,6 @@
 // `screened_poisson_2d` with its defaults (stages/reconstruct/
 // screened_poisson_2d.h); a configured 2D reconstructor is used as given.
 #include "framework/rfta/reach_for_the_arcs.h"
-#include "framework/rfta/sphere_set.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
 #include "stages/reconstruct/screened_poisson_2d.h"
@@ -72,10 +71,8 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
   // tuning_cell: the tuning surfaces' marching cubes no finer than that
   // fraction of the samples' spacing (the nested screened_poisson's
   // extract_max_cell, unless it is set there).
-  const double tuning_cell = p.GetDouble("tuning_cell");
-  if (dim == 3 && tuning_cell > 0 && tuning_spec.params.Has("extract_max_cell") &&
-      tuning_spec.params.GetDouble("extract_max_cell") == 0) {
-    const double cell = tuning_cell * SampleSpacing(samples);
+  const double cell = TuningMaxCell(samples, options.tuning_cell);
+  if (cell > 0 && tuning_spec.params.Has("extract_max_cell") && tuning_spec.params.GetDouble("extract_max_cell") == 0) {
     tuning_spec.params.Set("extract_max_cell", cell);
     d.SetMetric("rfta_tuning_max_cell", cell);
   }
