@@ -1,6 +1,7 @@
 // arcs: one binary with subcommands (run | list | describe | table | sdf | eval | version).
 #include "framework/eval/metrics.h"
 #include "orchestration/csv.h"
+#include "orchestration/memory.h"
 #include "orchestration/spec.h"
 #include "orchestration/results_dir.h"
 #include "orchestration/runner.h"
@@ -394,6 +395,7 @@ int main(int argc, char** argv) {
     setenv("ARCS_NO_REEXEC", "1", 1);
     execv("/proc/self/exe", argv);  // returns only on failure: carry on as we are
   }
+  KeepFreedMemory();  // freed memory reused, not faulted in again per solve (orchestration/memory.h)
   const GlobalOptions global = ExtractGlobalOptions(&argc, argv);  // --plugin, --threads anywhere
   if (global.version) {
     std::printf("arcs 0.1.0 (git %s, %s build, plugin API %d)\n", GitRevision(), BuildType(), ARCS_PLUGIN_API_VERSION);

@@ -305,6 +305,9 @@ int Figure14(const Registry& registry, int nmax) {
 }
 
 int main(int argc, char** argv) {
+  // As the arcs command does (orchestration/memory.h); RFTA_BENCH_GLIBC_FREE=1
+  // leaves glibc's defaults, for the comparison.
+  if (!std::getenv("RFTA_BENCH_GLIBC_FREE")) KeepFreedMemory();
   const std::string which = argc > 1 ? argv[1] : "all";
   Registry registry;
   RegisterBuiltinStages(registry);

@@ -4,6 +4,10 @@
 #include <cstdlib>
 #include <cstring>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 namespace arcs {
 
 namespace {
@@ -32,6 +36,17 @@ bool ResetPeakRss() {
   if (!f) return false;
   const bool ok = std::fputs("5", f) >= 0;
   return std::fclose(f) == 0 && ok;
+}
+
+bool KeepFreedMemory() {
+#if defined(__GLIBC__)
+  constexpr int kLimit = 1 << 30;
+  const bool mmap_ok = mallopt(M_MMAP_THRESHOLD, kLimit) == 1;
+  const bool trim_ok = mallopt(M_TRIM_THRESHOLD, kLimit) == 1;
+  return mmap_ok && trim_ok;
+#else
+  return false;
+#endif
 }
 
 }  // namespace arcs
