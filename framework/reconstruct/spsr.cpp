@@ -375,11 +375,7 @@ void Solver::BuildLevel(Level& L, const std::vector<Key>& cells, bool complete) 
     for (std::int64_t i = b0; i < e0; ++i) {
       const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
       L.on_face[i] = (x == 0 || y == 0 || z == 0 || x == L.res || y == L.res || z == L.res);
-      for (int o = 0; o < 27; ++o) {
-        const int a = x + Ox(o), b = y + Oy(o), c = z + Oz(o);
-        if (a < 0 || b < 0 || c < 0 || a > L.res || b > L.res || c > L.res) continue;
-        L.nbr[i * 27 + o] = L.node_map.Find(Pack(a, b, c));
-      }
+      L.node_map.Find27(x, y, z, L.res, &L.nbr[i * 27]);
     }
   }, 2048);
   L.x.assign(nn, 0.0);

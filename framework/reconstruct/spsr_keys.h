@@ -131,6 +131,18 @@ class NodeCache {
     val_[static_cast<std::size_t>(i)] = v;
     known_[static_cast<std::size_t>(i)] = 1;
   }
+  // The 4^3 nodes of brick (bx, by, bz) (nodes (4 bx + i, 4 by + j, 4 bz + k),
+  // i, j, k in 0..3, at local index i + 4 j + 16 k): their values and known
+  // flags, or false when the brick does not exist. Nodes of the dense
+  // lattice are not in bricks.
+  bool Brick(int bx, int by, int bz, const T** val, const unsigned char** known) const {
+    const int b = bricks_.Find(Pack(bx, by, bz));
+    if (b < 0) return false;
+    const std::size_t base = dense_ + static_cast<std::size_t>(b) * kCount;
+    *val = &val_[base];
+    *known = &known_[base];
+    return true;
+  }
   // Every known key, sorted.
   std::vector<Key> SortedKeys() const {
     std::vector<Key> out;
@@ -187,6 +199,31 @@ class BrickIndex {
   int Find(Key k) const {
     const int* i = c_.Lookup(k);
     return i ? *i : -1;
+  }
+  // The indices of the 27 nodes (x + dx, y + dy, z + dz), d in {-1, 0, 1}, x
+  // fastest, with -1 for nodes that are not in the list or lie outside
+  // [0, res]^3: the same answers as 27 calls of Find, from at most 8 brick
+  // lookups (the 3^3 block spans at most two bricks per axis).
+  void Find27(int x, int y, int z, int res, int* out) const {
+    const int lo[3] = {std::max(x - 1, 0) >> 2, std::max(y - 1, 0) >> 2, std::max(z - 1, 0) >> 2};
+    const int* val[8];
+    const unsigned char* known[8];
+    bool looked[8] = {false, false, false, false, false, false, false, false};
+    bool have[8];
+    for (int o = 0; o < 27; ++o) {
+      const int a = x + o % 3 - 1, b = y + (o / 3) % 3 - 1, c = z + o / 9 - 1;
+      if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) {
+        out[o] = -1;
+        continue;
+      }
+      const int q = ((a >> 2) - lo[0]) | (((b >> 2) - lo[1]) << 1) | (((c >> 2) - lo[2]) << 2);
+      if (!looked[q]) {
+        looked[q] = true;
+        have[q] = c_.Brick(a >> 2, b >> 2, c >> 2, &val[q], &known[q]);
+      }
+      const int l = (a & 3) | ((b & 3) << 2) | ((c & 3) << 4);
+      out[o] = have[q] && known[q][l] ? val[q][l] : -1;
+    }
   }
 
  private:
