@@ -72,9 +72,21 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
   // fraction of the samples' spacing (the nested screened_poisson's
   // extract_max_cell, unless it is set there).
   const double cell = TuningMaxCell(samples, options.tuning_cell);
-  if (cell > 0 && tuning_spec.params.Has("extract_max_cell") && tuning_spec.params.GetDouble("extract_max_cell") == 0) {
-    tuning_spec.params.Set("extract_max_cell", cell);
-    d.SetMetric("rfta_tuning_max_cell", cell);
+  if (cell > 0) {
+    // Applied only where it means something: screened_poisson with backend
+    // arcs, and extract_max_cell not set there already; otherwise said so.
+    const bool has = tuning_spec.params.Has("extract_max_cell");
+    const bool arcs_backend = tuning_spec.params.Has("backend") && tuning_spec.params.GetString("backend") == "arcs";
+    if (has && arcs_backend && tuning_spec.params.GetDouble("extract_max_cell") == 0) {
+      tuning_spec.params.Set("extract_max_cell", cell);
+      d.SetMetric("rfta_tuning_max_cell", cell);
+    } else {
+      ctx.Warn("rfta: tuning_cell " + std::to_string(options.tuning_cell) + " ignored: " +
+               (!has || !arcs_backend
+                    ? "the tuning reconstructor '" + tuning_spec.stage +
+                          "' is not screened_poisson with backend arcs (extract_max_cell)"
+                    : std::string("the tuning reconstructor's extract_max_cell is set already")));
+    }
   }
   RftaParts parts;
   // The sampler and the final reconstructor run on the case itself (they see

@@ -12,9 +12,11 @@
 #include "framework/sdf/sdf_sampling.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
+#include "stages/reconstruct/screened_poisson_spec.h"
 
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <string>
 #include <variant>
 
@@ -112,6 +114,34 @@ TEST(RftaLibrary, TuningCellCoarsensTheTuningSurfacesInStageAndLibraryAlike) {
               (plain.points.P - lib.points.P).cwiseAbs().maxCoeff() > 0.0);
   o.tuning_cell = -1;
   EXPECT_THROW(ReachForTheArcs(s, o, Context(5)), OptionError);
+}
+
+// tuning_cell where it cannot apply (the tuning screened_poisson's own
+// extract_max_cell already set) is said in a warning, not silently ignored,
+// and leaves the nested stage's value.
+TEST(RftaLibrary, TuningCellThatCannotApplyIsAWarning) {
+  const SdfSamples s = TorusSamples10();
+  Registry r;
+  RegisterBuiltinStages(r);
+  ParamMap given;
+  given.Set("iterations", std::int64_t{1});
+  given.Set("tuning_cell", 0.6);
+  auto tuning = std::make_shared<StageSpec>(OfficialPoissonSpec());
+  tuning->params.Set("extract_max_cell", 0.05);
+  given.Set("tuning_reconstructor", tuning);
+  CaseData d;
+  d.registry = &r;
+  d.samples = s;
+  Context ctx(5);
+  std::vector<std::string> warnings;
+  ctx.set_log([&](LogLevel level, const std::string& msg) {
+    if (level == LogLevel::kWarning) warnings.push_back(msg);
+  });
+  r.Get("rfta").factory(r.Resolve("rfta", given))->Run(ctx, d);
+  EXPECT_FALSE(Has(d, "rfta_tuning_max_cell"));
+  bool said = false;
+  for (const std::string& w : warnings) said = said || w.find("tuning_cell 0.6") != std::string::npos;
+  EXPECT_TRUE(said) << "no warning about tuning_cell among " << warnings.size();
 }
 
 TEST(RftaLibrary, DefaultsEqualTheStageIn2D) {
