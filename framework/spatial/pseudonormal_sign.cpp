@@ -42,6 +42,12 @@ PseudonormalSign::PseudonormalSign(const Mesh& mesh) : mesh_(&mesh) {
   }
   auto from = [&](int h) { return mesh.F(h / 3, h % 3); };
   auto to = [&](int h) { return mesh.F(h / 3, (h % 3 + 1) % 3); };
+  // The far end of each listed half-edge, beside the list: the twin search
+  // below scans these contiguously instead of reading faces all over F.
+  std::vector<int> out_to(out.size());
+  ParallelFor(static_cast<std::int64_t>(out.size()), [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t j = b; j < e; ++j) out_to[j] = to(out[j]);
+  }, 8192);
   // The twin of a -> b is the one b -> a; closed: exactly one, and no second a -> b.
   edge_n_.assign(static_cast<std::size_t>(nf) * 3, Vec3::Zero());
   std::vector<int> twin_of(static_cast<std::size_t>(nf) * 3, -1);
@@ -52,8 +58,8 @@ PseudonormalSign::PseudonormalSign(const Mesh& mesh) : mesh_(&mesh) {
       const int h = static_cast<int>(hh), a = from(h), c = to(h);
       int twins = 0, same = 0, twin = -1;
       for (int j = start[c]; j < start[c + 1]; ++j)
-        if (to(out[j]) == a) ++twins, twin = out[j];
-      for (int j = start[a]; j < start[a + 1]; ++j) same += to(out[j]) == c;
+        if (out_to[j] == a) ++twins, twin = out[j];
+      for (int j = start[a]; j < start[a + 1]; ++j) same += out_to[j] == c;
       if (twins != 1 || same != 1 || a == c) {
         ok = false;
         continue;
