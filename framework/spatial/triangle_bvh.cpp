@@ -33,6 +33,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -321,20 +323,25 @@ void MortonTopology(std::vector<BuildItem>& items, std::vector<Node>& bin) {
     const double extent = cbox.hi[k] - cbox.lo[k];
     scale[k] = extent > 0.0 && std::isfinite(kCells / extent) ? kCells / extent : 0.0;
   }
-  for (int i = 0; i < nf; ++i) {
-    std::uint64_t m = 0;
-    for (int k = 0; k < 3; ++k) {
-      const double t = (items[i].c[k] - cbox.lo[k]) * scale[k];
-      const std::uint64_t q = !(t > 0.0) ? 0 : t >= kCells - 1 ? std::uint64_t(kCells - 1) : std::uint64_t(t);
-      m |= Spread3(q) << k;
+  ParallelFor(nf, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i) {
+      std::uint64_t m = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double t = (items[i].c[k] - cbox.lo[k]) * scale[k];
+        const std::uint64_t q = !(t > 0.0) ? 0 : t >= kCells - 1 ? std::uint64_t(kCells - 1) : std::uint64_t(t);
+        m |= Spread3(q) << k;
+      }
+      code[i] = {m, items[i].face};
     }
-    code[i] = {m, items[i].face};
-  }
-  std::sort(code.begin(), code.end());
+  }, 8192);
+  // The (code, face) pairs are distinct: any sort gives the one order.
+  tbb::parallel_sort(code.begin(), code.end());
   {
     std::vector<BuildItem> sorted(nf);
     // Face f is item f before sorting.
-    for (int i = 0; i < nf; ++i) sorted[i] = items[code[i].second];
+    ParallelFor(nf, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i) sorted[i] = items[code[i].second];
+    }, 8192);
     items.swap(sorted);
   }
   struct Task {
@@ -391,17 +398,20 @@ void TriangleBvh::Impl::Build() {
   if (nf == 0) return;
   std::vector<Node> bin;  // binary tree
   std::vector<BuildItem> items(nf);
-  for (int f = 0; f < nf; ++f) {
-    BuildItem& it = items[f];
-    for (int k = 0; k < 3; ++k) {
-      const double x = mesh.V(mesh.F(f, 0), k), y = mesh.V(mesh.F(f, 1), k),
-                   z = mesh.V(mesh.F(f, 2), k);
-      it.lo[k] = std::min({x, y, z});
-      it.hi[k] = std::max({x, y, z});
-      it.c[k] = 0.5 * it.lo[k] + 0.5 * it.hi[k];  // no overflow near +-DBL_MAX
+  ParallelFor(nf, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t ff = b; ff < e; ++ff) {
+      const int f = static_cast<int>(ff);
+      BuildItem& it = items[f];
+      for (int k = 0; k < 3; ++k) {
+        const double x = mesh.V(mesh.F(f, 0), k), y = mesh.V(mesh.F(f, 1), k),
+                     z = mesh.V(mesh.F(f, 2), k);
+        it.lo[k] = std::min({x, y, z});
+        it.hi[k] = std::max({x, y, z});
+        it.c[k] = 0.5 * it.lo[k] + 0.5 * it.hi[k];  // no overflow near +-DBL_MAX
+      }
+      it.face = f;
     }
-    it.face = f;
-  }
+  }, 8192);
   // The items themselves are partitioned (not an index array into them): the
   // binning passes then read memory in order.
   bin.reserve(std::max(1, 2 * nf));
@@ -565,22 +575,24 @@ void TriangleBvh::Impl::Build() {
   tris.resize(nf);
   face.resize(nf);
   degenerate.resize(nf);
-  for (int i = 0; i < nf; ++i) {
-    const int f = items[i].face;
-    face[i] = f;
-    Tri& t = tris[i];
-    for (int k = 0; k < 3; ++k) {
-      t.a[k] = mesh.V(mesh.F(f, 0), k);
-      t.b[k] = mesh.V(mesh.F(f, 1), k);
-      t.c[k] = mesh.V(mesh.F(f, 2), k);
+  ParallelFor(nf, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t i = b; i < e; ++i) {
+      const int f = items[i].face;
+      face[i] = f;
+      Tri& t = tris[i];
+      for (int k = 0; k < 3; ++k) {
+        t.a[k] = mesh.V(mesh.F(f, 0), k);
+        t.b[k] = mesh.V(mesh.F(f, 1), k);
+        t.c[k] = mesh.V(mesh.F(f, 2), k);
+      }
+      const Vec3 ab(t.b[0] - t.a[0], t.b[1] - t.a[1], t.b[2] - t.a[2]);
+      const Vec3 ac(t.c[0] - t.a[0], t.c[1] - t.a[1], t.c[2] - t.a[2]);
+      const Vec3 bc = ac - ab;
+      const double l2 = std::max({ab.squaredNorm(), ac.squaredNorm(), bc.squaredNorm()});
+      // Sine of the largest angle below ~1e-10: handled as three segments.
+      degenerate[i] = ab.cross(ac).squaredNorm() <= 1e-20 * l2 * l2 ? 1 : 0;
     }
-    const Vec3 ab(t.b[0] - t.a[0], t.b[1] - t.a[1], t.b[2] - t.a[2]);
-    const Vec3 ac(t.c[0] - t.a[0], t.c[1] - t.a[1], t.c[2] - t.a[2]);
-    const Vec3 bc = ac - ab;
-    const double l2 = std::max({ab.squaredNorm(), ac.squaredNorm(), bc.squaredNorm()});
-    // Sine of the largest angle below ~1e-10: handled as three segments.
-    degenerate[i] = ab.cross(ac).squaredNorm() <= 1e-20 * l2 * l2 ? 1 : 0;
-  }
+  }, 8192);
   for (int k = 0; k < 3; ++k) {
     origin[k] = 0.5 * (mesh.V.col(k).minCoeff() + mesh.V.col(k).maxCoeff());
     coord_scale = std::max(coord_scale, (mesh.V.col(k).array() - origin[k]).abs().maxCoeff());
