@@ -14,6 +14,8 @@ raises ValueError with the message the ``arcs`` program prints.
 
 Long calls release the GIL; ``arcs.set_threads(n)`` bounds their threads
 (0 = all cores). Arrays returned are not copies: they own the C++ result.
+``arcs.keep_freed_memory()`` makes glibc's malloc keep freed memory for reuse,
+as the ``arcs`` program does (RFTA about 15 % faster; process-wide, so opt-in).
 """
 import csv as _csv
 import inspect as _inspect
@@ -39,9 +41,10 @@ from . import _arcs
 
 __all__ = ["reach_for_the_arcs", "marching_cubes", "signed_distance", "sdf_grid", "winding_number", "voxelize",
            "reconstruct", "metrics", "run", "stages", "describe", "set_threads", "read_mesh", "write_mesh",
-           "read_points", "read_sdf", "shape", "normalize_transform", "version"]
+           "read_points", "read_sdf", "shape", "normalize_transform", "version", "keep_freed_memory"]
 
 set_threads = _arcs.set_threads
+keep_freed_memory = _arcs.keep_freed_memory
 read_mesh = _arcs.read_mesh
 write_mesh = _arcs.write_mesh
 read_points = _arcs.read_points

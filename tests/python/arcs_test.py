@@ -39,6 +39,15 @@ class ReachForTheArcs(unittest.TestCase):
         radius = np.linalg.norm(V, axis=1).mean()
         self.assertLess(abs(radius - 0.5) / 0.5, 0.01, "mean radius %.5f" % radius)
 
+    def test_keep_freed_memory_then_the_same_surface(self):
+        # glibc (Debian) accepts the thresholds; the setting changes no result.
+        U, S = sphere_grid(11)
+        V0, F0 = arcs.reach_for_the_arcs(U, S, iterations=2, seed=3)
+        self.assertTrue(arcs.keep_freed_memory())
+        V1, F1 = arcs.reach_for_the_arcs(U, S, iterations=2, seed=3)
+        np.testing.assert_array_equal(V0, V1)
+        np.testing.assert_array_equal(F0, F1)
+
     def test_mismatched_arrays_raise_value_error(self):
         U, S = sphere_grid(11)
         with self.assertRaisesRegex(ValueError, "U has 1331 points but S has 1330 values"):
