@@ -8,7 +8,10 @@ stands to the others as the paper's did, which the means cannot.
 
     python3 scripts/paired_ratios.py docs/runs/sdf_methods_table/*.csv \
         [--paper ${ARCS_SHARED_DIR}/reference/rfta_paper_results.csv] \
-        [--metric chamfer] [--pairs RFTA/MC,RFTS/MC,RFTA/RFTS]
+        [--metric chamfer] [--pairs RFTA/MC,RFTS/MC,RFTA/RFTS,DCSDD/MC=NDC/MC]
+
+A pair OURS=PAPER sets our methods and the paper's apart: DCSDD/MC=NDC/MC prints our DCSDD / MC
+beside the paper's NDC / MC (a method the paper did not run against one it did).
 
 Ours: arcs results files (`arcs run` results.csv; rows merged by case id, `ok` rows only), method
 column `method`, grid column `sdf_grid.n`, genus `ref_genus`. Paper: the long per-shape file
@@ -89,25 +92,27 @@ def main(argv):
     ap.add_argument("--metric", default="chamfer", choices=sorted(PAPER_METRIC))
     ap.add_argument("--pairs", default="RFTA/MC,RFTS/MC,RFTA/RFTS")
     args = ap.parse_args(argv)
-    pairs = []
+    pairs = []  # ((ours a, ours b), (paper a, paper b))
     for p in args.pairs.split(","):
-        if p.count("/") != 1:
-            raise SystemExit("--pairs: '%s' is not METHOD/METHOD" % p)
-        pairs.append(tuple(x.strip().upper() for x in p.split("/")))
+        sides = p.split("=")
+        if len(sides) > 2 or any(side.count("/") != 1 for side in sides):
+            raise SystemExit("--pairs: '%s' is not METHOD/METHOD or METHOD/METHOD=METHOD/METHOD" % p)
+        parsed = [tuple(x.strip().upper() for x in side.split("/")) for side in sides]
+        pairs.append((parsed[0], parsed[-1]))
     ours = read_ours(args.results, args.metric)
     paper = read_paper(args.paper, args.metric) if os.path.exists(args.paper) else {}
     if not paper:
         print("(no paper file at %s: ours only)" % args.paper, file=sys.stderr)
     grids = sorted({n for _, n in ours})
-    head = "| n | group | " + " | ".join("%s ours | %s paper" % ("/".join(p), "/".join(p)) for p in pairs) + " |"
+    head = "| n | group | " + " | ".join("%s ours | %s paper" % ("/".join(o), "/".join(q)) for o, q in pairs) + " |"
     print("Paired %s ratios per shape: geometric mean (median) [shapes]\n" % args.metric)
     print(head)
     print("|---|---|" + "---:|" * (2 * len(pairs)))
     for n in grids:
         for name, keep in GROUPS:
             cells = []
-            for a, b in pairs:
-                for src in (ours, paper):
+            for o, q in pairs:
+                for src, (a, b) in ((ours, o), (paper, q)):
                     c, med, gm = ratio_stats(src, n, a, b, keep)
                     cells.append("%.3f (%.3f) [%d]" % (gm, med, c) if c else "–")
             print("| %d | %s | %s |" % (n, name, " | ".join(cells)))

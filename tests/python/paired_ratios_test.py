@@ -55,6 +55,23 @@ class PairedRatiosTest(unittest.TestCase):
             self.assertIn("0.500 (0.500) [1]", line)  # ours
             self.assertIn("0.250 (0.250) [1]", line)  # paper
 
+    def test_ours_and_the_papers_methods_named_apart(self):
+        with tempfile.TemporaryDirectory() as d:
+            ours = self.write(d, "r.csv", HEADER + "a1,ok,a,MC,50,0,0.2\na2,ok,a,DCSDD,50,0,0.1\n")
+            paper = self.write(d, "p.csv", "mesh,genus,resolution,method,metric,error\n"
+                               "x,0.0,50,mc,chf,0.4\nx,0.0,50,ndc,chf,0.3\n")
+            out = io.StringIO()
+            with redirect_stdout(out):
+                pr.main([ours, "--paper", paper, "--pairs", "DCSDD/MC=NDC/MC"])
+            text = out.getvalue()
+            self.assertIn("DCSDD/MC ours | NDC/MC paper", text)
+            line = [l for l in text.splitlines() if l.startswith("| 50 | all")][0]
+            self.assertIn("0.500 (0.500) [1]", line)  # ours: DCSDD / MC
+            self.assertIn("0.750 (0.750) [1]", line)  # paper: NDC / MC
+            with self.assertRaises(SystemExit) as e:
+                pr.main([ours, "--pairs", "DCSDD/MC=NDC"])
+            self.assertIn("is not METHOD/METHOD or METHOD/METHOD=METHOD/METHOD", str(e.exception))
+
     def test_bad_input_names_file_line_and_column(self):
         with tempfile.TemporaryDirectory() as d:
             bad = self.write(d, "bad.csv", "case_id,status,item\nx,ok,a\n")
