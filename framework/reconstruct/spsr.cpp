@@ -1096,13 +1096,37 @@ Mesh Solver::Extract(double iso) {
   // Sign changes on the complete level's edges, located on the finest grid.
   {
     const int rF = 1 << F_, step = 1 << (L - F_);
-    {  // the complete level's nodes, in parallel first (the search below reads them)
+    {
+      // The complete level's nodes, in parallel first (the search below reads
+      // them): raw values, then the values marching cubes sees, by `seen`'s
+      // rule. Their face neighbours (one extraction cell away, between the
+      // lattice's nodes) are evaluated for the island test but not kept: kept,
+      // each made a brick of its own in rmap, tens of thousands per
+      // extraction, nearly all never read again. The values are the same.
       std::vector<Key> all;
       all.reserve(static_cast<std::size_t>(rF + 1) * (rF + 1) * (rF + 1));
       for (int z = 0; z <= rF; ++z)
         for (int y = 0; y <= rF; ++y)
           for (int x = 0; x <= rF; ++x) all.push_back(Pack(x * step, y * step, z * step));
-      prefetch_nodes(std::move(all));
+      eval_raw(all);  // sorts `all`
+      std::vector<double> gv(all.size());
+      std::vector<char> isl(all.size(), 0);
+      ParallelFor(static_cast<std::int64_t>(all.size()), [&](std::int64_t b0, std::int64_t e0) {
+        Memo memo(lv_.size());
+        auto raw = [&](int x, int y, int z) {
+          if (const double* known = rmap.Lookup(Pack(x, y, z))) return *known;
+          return iso - ValueWith(Lmax_, Pack(x << up, y << up, z << up), memo);
+        };
+        for (std::int64_t i = b0; i < e0; ++i) {
+          bool island;
+          gv[i] = seen(KX(all[i]), KY(all[i]), KZ(all[i]), raw, &island);
+          isl[i] = island;
+        }
+      }, 512);
+      for (std::size_t i = 0; i < all.size(); ++i) {
+        islands_ += isl[i];
+        gmap.Set(all[i], gv[i]);
+      }
     }
     for (int z = 0; z <= rF; ++z)
       for (int y = 0; y <= rF; ++y)
