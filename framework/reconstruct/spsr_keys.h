@@ -108,6 +108,8 @@ class KeyMap {
 template <class T>
 class NodeCache {
  public:
+  // A brick is 2^kBrickBits nodes a side.
+  static constexpr int kBrickBits = 2;
   NodeCache() = default;
   NodeCache(int lattice_shift, int lattice_n)
       : shift_(lattice_shift), n_(lattice_n),
@@ -131,8 +133,8 @@ class NodeCache {
     val_[static_cast<std::size_t>(i)] = v;
     known_[static_cast<std::size_t>(i)] = 1;
   }
-  // The 4^3 nodes of brick (bx, by, bz) (nodes (4 bx + i, 4 by + j, 4 bz + k),
-  // i, j, k in 0..3, at local index i + 4 j + 16 k): their values and known
+  // The nodes of brick (bx, by, bz) (with B = 2^kBrickBits: nodes (B bx + i,
+  // B by + j, B bz + k), i, j, k < B, at local index i + B j + B^2 k): their values and known
   // flags, or false when the brick does not exist. Nodes of the dense
   // lattice are not in bricks.
   bool Brick(int bx, int by, int bz, const T** val, const unsigned char** known) const {
@@ -163,7 +165,7 @@ class NodeCache {
   }
 
  private:
-  static constexpr int kShift = 2, kCount = 1 << (3 * kShift), kLow = (1 << kShift) - 1;
+  static constexpr int kShift = kBrickBits, kCount = 1 << (3 * kShift), kLow = (1 << kShift) - 1;
   static Key BrickKey(Key k) { return Pack(KX(k) >> kShift, KY(k) >> kShift, KZ(k) >> kShift); }
   static int Local(Key k) {
     return (KX(k) & kLow) | ((KY(k) & kLow) << kShift) | ((KZ(k) & kLow) << (2 * kShift));
@@ -205,7 +207,9 @@ class BrickIndex {
   // [0, res]^3: the same answers as 27 calls of Find, from at most 8 brick
   // lookups (the 3^3 block spans at most two bricks per axis).
   void Find27(int x, int y, int z, int res, int* out) const {
-    const int lo[3] = {std::max(x - 1, 0) >> 2, std::max(y - 1, 0) >> 2, std::max(z - 1, 0) >> 2};
+    constexpr int kB = NodeCache<int>::kBrickBits, kLow = (1 << kB) - 1;
+    static_assert(kB >= 1, "a 3^3 block must span at most two bricks per axis");
+    const int lo[3] = {std::max(x - 1, 0) >> kB, std::max(y - 1, 0) >> kB, std::max(z - 1, 0) >> kB};
     const int* val[8];
     const unsigned char* known[8];
     bool looked[8] = {false, false, false, false, false, false, false, false};
@@ -216,12 +220,12 @@ class BrickIndex {
         out[o] = -1;
         continue;
       }
-      const int q = ((a >> 2) - lo[0]) | (((b >> 2) - lo[1]) << 1) | (((c >> 2) - lo[2]) << 2);
+      const int q = ((a >> kB) - lo[0]) | (((b >> kB) - lo[1]) << 1) | (((c >> kB) - lo[2]) << 2);
       if (!looked[q]) {
         looked[q] = true;
-        have[q] = c_.Brick(a >> 2, b >> 2, c >> 2, &val[q], &known[q]);
+        have[q] = c_.Brick(a >> kB, b >> kB, c >> kB, &val[q], &known[q]);
       }
-      const int l = (a & 3) | ((b & 3) << 2) | ((c & 3) << 4);
+      const int l = (a & kLow) | ((b & kLow) << kB) | ((c & kLow) << (2 * kB));
       out[o] = have[q] && known[q][l] ? val[q][l] : -1;
     }
   }

@@ -22,6 +22,14 @@ class PairedRatiosTest(unittest.TestCase):
             f.write(text)
         return path
 
+    def printed(self, args, n):
+        """What main(args) prints, and its line for grid n, all shapes."""
+        out = io.StringIO()
+        with redirect_stdout(out):
+            pr.main(args)
+        text = out.getvalue()
+        return text, [l for l in text.splitlines() if l.startswith("| %d | all" % n)][0]
+
     def test_ratios_over_shapes_where_both_methods_succeeded(self):
         with tempfile.TemporaryDirectory() as d:
             ours = self.write(d, "r.csv", HEADER +
@@ -48,10 +56,7 @@ class PairedRatiosTest(unittest.TestCase):
             ours = self.write(d, "r.csv", HEADER + "a1,ok,a,MC,10,0,0.2\na2,ok,a,RFTA,10,0,0.1\n")
             paper = self.write(d, "p.csv", "# comment\nmesh,genus,resolution,method,metric,error\n"
                                "x,0.0,10,mc,chf,0.4\nx,0.0,10,rfta,chf,0.1\nx,0.0,10,rfta,hd,9\n")
-            out = io.StringIO()
-            with redirect_stdout(out):
-                pr.main([ours, "--paper", paper, "--pairs", "RFTA/MC"])
-            line = [l for l in out.getvalue().splitlines() if l.startswith("| 10 | all")][0]
+            _, line = self.printed([ours, "--paper", paper, "--pairs", "RFTA/MC"], 10)
             self.assertIn("0.500 (0.500) [1]", line)  # ours
             self.assertIn("0.250 (0.250) [1]", line)  # paper
 
@@ -60,12 +65,8 @@ class PairedRatiosTest(unittest.TestCase):
             ours = self.write(d, "r.csv", HEADER + "a1,ok,a,MC,50,0,0.2\na2,ok,a,DCSDD,50,0,0.1\n")
             paper = self.write(d, "p.csv", "mesh,genus,resolution,method,metric,error\n"
                                "x,0.0,50,mc,chf,0.4\nx,0.0,50,ndc,chf,0.3\n")
-            out = io.StringIO()
-            with redirect_stdout(out):
-                pr.main([ours, "--paper", paper, "--pairs", "DCSDD/MC=NDC/MC"])
-            text = out.getvalue()
+            text, line = self.printed([ours, "--paper", paper, "--pairs", "DCSDD/MC=NDC/MC"], 50)
             self.assertIn("DCSDD/MC ours | NDC/MC paper", text)
-            line = [l for l in text.splitlines() if l.startswith("| 50 | all")][0]
             self.assertIn("0.500 (0.500) [1]", line)  # ours: DCSDD / MC
             self.assertIn("0.750 (0.750) [1]", line)  # paper: NDC / MC
             with self.assertRaises(SystemExit) as e:

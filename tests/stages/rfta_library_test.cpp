@@ -19,15 +19,22 @@
 #include <memory>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace arcs {
 namespace {
 
-CaseData RunRftaStage(const Registry& r, const SdfSamples& samples, const ParamMap& given, std::uint64_t seed) {
+// Runs the registered rfta stage; `warnings` (optional) receives what it warned.
+CaseData RunRftaStage(const Registry& r, const SdfSamples& samples, const ParamMap& given, std::uint64_t seed,
+                      std::vector<std::string>* warnings = nullptr) {
   CaseData d;
   d.registry = &r;
   d.samples = samples;
   Context ctx(seed);
+  if (warnings)
+    ctx.set_log([warnings](LogLevel level, const std::string& msg) {
+      if (level == LogLevel::kWarning) warnings->push_back(msg);
+    });
   r.Get("rfta").factory(r.Resolve("rfta", given))->Run(ctx, d);
   return d;
 }
@@ -129,15 +136,8 @@ TEST(RftaLibrary, TuningCellThatCannotApplyIsAWarning) {
   auto tuning = std::make_shared<StageSpec>(OfficialPoissonSpec());
   tuning->params.Set("extract_max_cell", 0.05);
   given.Set("tuning_reconstructor", tuning);
-  CaseData d;
-  d.registry = &r;
-  d.samples = s;
-  Context ctx(5);
   std::vector<std::string> warnings;
-  ctx.set_log([&](LogLevel level, const std::string& msg) {
-    if (level == LogLevel::kWarning) warnings.push_back(msg);
-  });
-  r.Get("rfta").factory(r.Resolve("rfta", given))->Run(ctx, d);
+  const CaseData d = RunRftaStage(r, s, given, 5, &warnings);
   EXPECT_FALSE(Has(d, "rfta_tuning_max_cell"));
   bool said = false;
   for (const std::string& w : warnings) said = said || w.find("tuning_cell 0.6") != std::string::npos;
