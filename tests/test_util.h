@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <unistd.h>
@@ -26,12 +27,44 @@ inline std::string SharedDir() {
 
 inline std::string SharedData(const std::string& rel) { return SharedDir() + "/data/" + rel; }
 
-// A fresh, empty temporary directory for one test. The process id in the
-// name keeps concurrent test runs (two checkouts, ctest -j) apart.
+// The directories TempDir made in this process, removed when the test
+// program ends if every test passed (kept, and named on stderr, if one failed
+// or ARCS_KEEP_TEST_DIRS is set). Only the process that made them removes
+// them: a forked child that exits normally must not delete its parent's.
+class TempDirRegistry {
+ public:
+  void Add(const std::filesystem::path& dir) { dirs_.push_back(dir); }
+  ~TempDirRegistry() {
+    if (::getpid() != owner_ || dirs_.empty()) return;
+    const auto* unit = ::testing::UnitTest::GetInstance();
+    if (std::getenv("ARCS_KEEP_TEST_DIRS") != nullptr || (unit != nullptr && !unit->Passed())) {
+      std::fprintf(stderr, "test directories kept (%zu), e.g. %s\n", dirs_.size(), dirs_.front().c_str());
+      return;
+    }
+    for (const auto& d : dirs_) {
+      std::error_code ec;
+      std::filesystem::remove_all(d, ec);
+    }
+  }
+
+ private:
+  pid_t owner_ = ::getpid();
+  std::vector<std::filesystem::path> dirs_;
+};
+
+inline TempDirRegistry& TempDirs() {
+  static TempDirRegistry registry;
+  return registry;
+}
+
+// A fresh, empty temporary directory for one test, removed at the end of the
+// test program (TempDirRegistry). The process id in the name keeps
+// concurrent test runs (two checkouts, ctest -j) apart.
 inline std::filesystem::path TempDir(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() / ("arcs_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  TempDirs().Add(dir);
   return dir;
 }
 

@@ -6,6 +6,7 @@
 #include "framework/io/sdf_io.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
+#include "tests/test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -102,8 +103,7 @@ TEST(PlanarStages, TwoDimensionalSdfFilesFeedRfta) {
   Registry r;
   RegisterBuiltinStages(r);
   const CaseData base = StarCase(r, 10);
-  const auto dir = std::filesystem::temp_directory_path() / "arcs_test_planar_sdf_files";
-  std::filesystem::create_directories(dir);
+  const auto dir = arcs::testing::TempDir("planar_sdf_files");
   WriteSdfText((dir / "star.txt").string(), *base.samples);
   WriteSdfGrid((dir / "star.npy").string(), *base.samples);
   for (const char* f : {"star.txt", "star.npy"}) {
@@ -120,7 +120,6 @@ TEST(PlanarStages, TwoDimensionalSdfFilesFeedRfta) {
     ASSERT_TRUE(d.output_curve.has_value()) << f;
     EXPECT_FALSE(d.output_curve->Empty()) << f;
   }
-  std::filesystem::remove_all(dir);
 }
 
 TEST(PlanarStages, ClearErrors) {
