@@ -19,7 +19,7 @@
 namespace arcs {
 namespace {
 
-constexpr std::int32_t kLeafSize = 8;
+constexpr std::int32_t kLeafSize = 32;
 constexpr std::int32_t kParallelBuild = 1 << 14;  // build halves in parallel above this
 constexpr int kStack = 96;                        // > depth of a median-split tree of 2^31 balls
 
