@@ -21,8 +21,8 @@ bool ResetPeakRss();
 // faulted those pages in again (bunny_fixed n = 20, paper preset: 206k-275k
 // minor page faults against 41k-46k, RFTA 20.0-20.4 s against 14.4-17.1 s;
 // docs/rfta_table1.md, session 20). A process-wide setting: the arcs command
-// and rfta_bench call it first thing (Python: arcs.keep_freed_memory(), opt-in); the Python module does not (it
-// would change the interpreter's own allocations). Returns false where the
+// and rfta_bench call it first thing; the Python module does not on import (it
+// would change the interpreter's own allocations): arcs.keep_freed_memory() is opt-in. Returns false where the
 // allocator refused or is not glibc's.
 bool KeepFreedMemory();
 

@@ -7,6 +7,7 @@
 
 #include "framework/error.h"
 #include "framework/util/rng.h"
+#include "tests/test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -152,9 +153,7 @@ inline void FuzzReader(const std::string& name, const std::string& seed_bytes, c
                        std::uint64_t seed, const std::function<void(const std::string&)>& read,
                        unsigned timeout_s = 10) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / ("arcs_fuzz_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = TempDir("fuzz_" + name);  // kept when a mutant fails (test_util.h)
   // The seed itself must read.
   {
     const std::string p = (dir / ("seed" + ext)).string();
