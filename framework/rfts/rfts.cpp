@@ -257,17 +257,11 @@ RftsResult ReachForTheSpheres(const SdfSamples& samples, const RftsOptions& o, c
     res.query_s += Since(t0);
     res.final_invalid = invalid;
     res.iterations = it;
-    if (invalid == 0) {
-      res.stop_reason = "converged";
-      break;
-    }
     t0 = Clock::now();
     Eigen::SparseMatrix<double> A(nb, nv);
     A.setFromTriplets(trip.begin(), trip.end());
     const MatrixXd V = cur.V;
     const MatrixXd r = A * V - C;
-    const double err = r.norm() / nb;
-    res.final_error = err;
     // (7) Step size.
     double t = o.fixed_step;
     if (o.line_search) {
@@ -300,25 +294,36 @@ RftsResult ReachForTheSpheres(const SdfSamples& samples, const RftsOptions& o, c
       cur = last_converged;
       break;
     }
-    // (10) Convergence bookkeeping.
+    // The error after the step (the source measures the moved mesh against
+    // the same rows and targets).
+    const double err = (A * cur.V - C).norm() / nb;
+    res.final_error = err;
+    // (10) Convergence bookkeeping, in the source's order: after `patience`
+    // iterations without improvement, a mesh still coarser than min_h is
+    // saved as the last converged one, h halves and the flow starts counting
+    // (and its best error) afresh; at min_h nothing is saved, so a flow that
+    // diverges there and hits a guard returns the mesh it reached min_h with.
+    // The flow stops after the step when no sample was invalid before it, or
+    // after `max_stall` iterations without improvement.
     if (err < best - 1e-3 * o.tol) {
       best = err;
       counter = 0;
     } else {
       ++counter;
     }
-    if (counter > o.max_stall) {
-      res.stop_reason = "stalled";
+    if (counter > o.patience) {
+      if (h > min_h) {
+        last_converged = cur;
+        best = std::numeric_limits<double>::infinity();
+        counter = 0;
+        ++res.halvings;
+      }
+      h = std::max(h / 2, min_h);
+    }
+    if (invalid == 0 || counter > o.max_stall) {
+      res.stop_reason = invalid == 0 ? "converged" : "stalled";
       res.iterations = it + 1;
       break;
-    }
-    if (counter > o.patience && h > min_h) {
-      last_converged = cur;
-      h = std::max(h / 2, min_h);
-      counter = 0;
-      ++res.halvings;
-    } else if (counter == o.patience + 1) {
-      last_converged = cur;
     }
     // (11) Remesh the active faces grown twice by one-rings.
     t0 = Clock::now();

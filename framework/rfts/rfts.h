@@ -31,10 +31,12 @@
 //      mesh and stops (never a crash); so does a diverging flow (ours: a
 //      vertex beyond twice the start sphere's radius or the box, or a mesh
 //      with more than max_area_ratio times the sample box's surface area);
-// (10) convergence: err = |AV - c| / |batch|; after `patience` iterations
-//      without an improvement of 1e-3 tol the mesh is saved as "last
-//      converged" and h is halved (not below min_h); the flow stops after
-//      `max_stall` such iterations at min_h or when no sample is invalid;
+// (10) convergence: err = |AV' - c| / |batch| after the step; after
+//      `patience` iterations without an improvement of 1e-3 tol a mesh still
+//      coarser than min_h is saved as "last converged", h is halved (not
+//      below min_h) and the count and best error start afresh; at min_h
+//      nothing is saved; the flow stops after the step when no sample was
+//      invalid, or after `max_stall` iterations without improvement;
 // (11) remeshing (framework/rfts/remesh.h, Botsch–Kobbelt) of the active
 //      faces grown twice by one-rings, the patch boundary fixed.
 //
