@@ -13,7 +13,8 @@ stands to the others as the paper's did, which the means cannot.
 A pair OURS=PAPER sets our methods and the paper's apart: DCSDD/MC=NDC/MC prints our DCSDD / MC
 beside the paper's NDC / MC (a method the paper did not run against one it did).
 
-Ours: arcs results files (`arcs run` results.csv; rows merged by case id, `ok` rows only), method
+Ours: arcs results files (`arcs run` results.csv; rows merged by case id as `arcs table` merges
+them, the last `ok` row winning; `ok` rows only), method
 column `method`, grid column `sdf_grid.n`, genus `ref_genus`. Paper: the long per-shape file
 (mesh, genus, resolution, method, metric, error). A shape counts for a pair at a grid where both
 methods have a value. Printed per grid and genus group: shapes, median and geometric mean of
@@ -42,8 +43,10 @@ def read_ours(paths, metric):
                     if col not in row:
                         raise SystemExit("%s:%d: no column '%s' (an arcs results file of an sdf_grid experiment?)"
                                          % (path, line_no, col))
+                # As `arcs table` merges: the last ok row of a case wins (a
+                # later part re-running a method replaces the earlier rows).
                 old = by_case.get(row["case_id"])
-                if old is None or (old["status"] != "ok" and row["status"] == "ok"):
+                if old is None or row["status"] == "ok" or old["status"] != "ok":
                     by_case[row["case_id"]] = row
     shapes = defaultdict(dict)
     for row in by_case.values():

@@ -51,6 +51,16 @@ class PairedRatiosTest(unittest.TestCase):
             shapes = pr.read_ours([first, second], "chamfer")
             self.assertEqual(pr.ratio_stats(shapes, 10, "RFTA", "MC", lambda g: True)[0], 1)
 
+    def test_a_later_ok_row_replaces_an_earlier_ok_one_and_a_failure_does_not(self):
+        # As `arcs table` merges parts: a method re-run in a later part replaces its rows.
+        with tempfile.TemporaryDirectory() as d:
+            first = self.write(d, "1.csv", HEADER + "a1,ok,a,MC,10,0,0.2\na2,ok,a,RFTA,10,0,0.1\n")
+            second = self.write(d, "2.csv", HEADER + "a2,ok,a,RFTA,10,0,0.05\n")
+            third = self.write(d, "3.csv", HEADER + "a2,failed,a,RFTA,10,0,\n")
+            shapes = pr.read_ours([first, second, third], "chamfer")
+            n, med, _ = pr.ratio_stats(shapes, 10, "RFTA", "MC", lambda g: True)
+            self.assertEqual((n, round(med, 12)), (1, 0.25))
+
     def test_paper_file_and_printed_table(self):
         with tempfile.TemporaryDirectory() as d:
             ours = self.write(d, "r.csv", HEADER + "a1,ok,a,MC,10,0,0.2\na2,ok,a,RFTA,10,0,0.1\n")
