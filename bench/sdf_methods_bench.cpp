@@ -3,16 +3,19 @@
 // marching cubes measured in the same run as the baseline. Median of `runs`
 // runs (wall and process CPU seconds); the SDF sampling is not timed.
 //
-//   sdf_methods_bench [MESH] [--runs R] [--dcsdd-runs R] [--n 20,40,100] [--threads T]
+//   sdf_methods_bench [MESH] [--runs R] [--dcsdd-runs R] [--rfts-runs R] [--n 20,40,100] [--threads T]
 //
 // DCSDD runs its default 100 outer iterations (or until no vertex moves more
 // than 1e-4 cell diagonals); `--dcsdd-runs` (default 1) limits its repeats.
+// RFTS runs its flow at its defaults (seconds to minutes); `--rfts-runs`
+// (default 1) limits its repeats.
 // RFTA is timed by bench/rfta_bench (the paper's runtime figure).
 #include "framework/context.h"
 #include "framework/eval/metrics.h"
 #include "framework/geometry/marching_cubes.h"
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"
+#include "framework/rfts/rfts.h"
 #include "framework/sdf/sdf_sampling.h"
 #include "framework/sdfmesh/dcsdd.h"
 #include "framework/sdfmesh/dual_contouring.h"
@@ -66,7 +69,7 @@ Timing Time(int runs, const std::function<Mesh()>& f) {
 
 int main(int argc, char** argv) {
   std::string mesh_path = ARCS_BENCH_DEFAULT_MESH;
-  int runs = 3, dcsdd_runs = 1, threads = 0;
+  int runs = 3, dcsdd_runs = 1, rfts_runs = 1, threads = 0;
   std::vector<int> grids = {20, 40, 100};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -79,6 +82,7 @@ int main(int argc, char** argv) {
     };
     if (a == "--runs") runs = std::max(1, std::atoi(next().c_str()));
     else if (a == "--dcsdd-runs") dcsdd_runs = std::max(1, std::atoi(next().c_str()));
+    else if (a == "--rfts-runs") rfts_runs = std::max(1, std::atoi(next().c_str()));
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--n") {
       grids.clear();
@@ -90,7 +94,7 @@ int main(int argc, char** argv) {
       }
     } else if (!a.empty() && a[0] != '-') mesh_path = a;
     else {
-      std::fprintf(stderr, "usage: sdf_methods_bench [MESH] [--runs R] [--dcsdd-runs R] [--n 20,40,100] [--threads T]\n");
+      std::fprintf(stderr, "usage: sdf_methods_bench [MESH] [--runs R] [--dcsdd-runs R] [--rfts-runs R] [--n 20,40,100] [--threads T]\n");
       return 2;
     }
   }
@@ -102,8 +106,8 @@ int main(int argc, char** argv) {
   ThreadLimit limit(threads);
   Mesh ref = ReadMesh(mesh_path);
   Normalize(&ref, NormalizeOptions{});
-  std::printf("sdf_methods_bench: %s, %d threads, median of %d runs (DCSDD %d); wall and CPU seconds, x = wall / MC's wall\n",
-              std::filesystem::path(mesh_path).filename().c_str(), MaxThreads(), runs, dcsdd_runs);
+  std::printf("sdf_methods_bench: %s, %d threads, median of %d runs (DCSDD %d, RFTS %d); wall and CPU seconds, x = wall / MC's wall\n",
+              std::filesystem::path(mesh_path).filename().c_str(), MaxThreads(), runs, dcsdd_runs, rfts_runs);
   std::printf("%5s  %-14s %10s %10s %10s %9s %9s\n", "n", "method", "wall_s", "cpu_s", "x_MC", "faces", "chamfer");
   for (int n : grids) {
     Context ctx(1);
@@ -122,6 +126,7 @@ int main(int argc, char** argv) {
         {"vdb_mesher", runs, [&] { return VdbVolumeToMesh(s.values, *s.grid); }, VdbMesherAvailable()},
         {"power_diagram", runs, [&] { return PowerDiagramContour(s); }, PowerDiagramAvailable()},
         {"dcsdd", dcsdd_runs, [&] { return Dcsdd(s, DcsddOptions{}, ctx); }, true},
+        {"rfts", rfts_runs, [&] { return ReachForTheSpheres(s, RftsOptions{}, ctx).mesh; }, true},
     };
     double mc_wall = 0;
     for (const auto& m : methods) {
