@@ -261,10 +261,10 @@ RftsResult ReachForTheSpheres(const SdfSamples& samples, const RftsOptions& o, c
     Eigen::SparseMatrix<double> A(nb, nv);
     A.setFromTriplets(trip.begin(), trip.end());
     const MatrixXd V = cur.V;
-    const MatrixXd r = A * V - C;
     // (7) Step size.
     double t = o.fixed_step;
     if (o.line_search) {
+      const MatrixXd r = A * V - C;
       const MatrixXd np = -(A.transpose() * r) / nb;
       const MatrixXd Anp = A * np;
       t = -((r.cwiseProduct(Anp)).sum() / nb + 0.01 * np.squaredNorm()) / (Anp.squaredNorm() / nb);
@@ -294,17 +294,11 @@ RftsResult ReachForTheSpheres(const SdfSamples& samples, const RftsOptions& o, c
       cur = last_converged;
       break;
     }
-    // The error after the step (the source measures the moved mesh against
-    // the same rows and targets).
+    // (10) Convergence bookkeeping in the source's order (rfts.h): the error
+    // of the moved mesh; nothing is saved at min_h, so a flow that diverges
+    // there and hits a guard returns the mesh it reached min_h with.
     const double err = (A * cur.V - C).norm() / nb;
     res.final_error = err;
-    // (10) Convergence bookkeeping, in the source's order: after `patience`
-    // iterations without improvement, a mesh still coarser than min_h is
-    // saved as the last converged one, h halves and the flow starts counting
-    // (and its best error) afresh; at min_h nothing is saved, so a flow that
-    // diverges there and hits a guard returns the mesh it reached min_h with.
-    // The flow stops after the step when no sample was invalid before it, or
-    // after `max_stall` iterations without improvement.
     if (err < best - 1e-3 * o.tol) {
       best = err;
       counter = 0;
