@@ -46,6 +46,8 @@ void PoissonOptions::Check() const {
                     "in [0, 1]");
   ARCS_CHECK_OPTION(std::isfinite(extract_max_cell) && extract_max_cell >= 0.0 && extract_max_cell <= 1e9,
                     "extract_max_cell", extract_max_cell, "in [0, 1e9]");
+  ARCS_CHECK_OPTION(std::isfinite(density_scale) && density_scale >= 0.1 && density_scale <= 10.0, "density_scale",
+                    density_scale, "in [0.1, 10]");
 }
 
 PoissonOptions OfficialRftaPoisson() {
@@ -376,6 +378,8 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
     so.gs_iters = options.gs_iters;
     so.extract_quantile = options.extract_quantile;
     so.extract_max_cell = options.extract_max_cell;
+    so.normal_splat = options.normal_splat;
+    so.density_scale = options.density_scale;
     std::shared_ptr<SpsrWarmStart> state;
     const bool use_warm = warm && options.warm_start;
     if (use_warm) state = std::static_pointer_cast<SpsrWarmStart>(*warm);

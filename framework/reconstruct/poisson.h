@@ -108,6 +108,9 @@ struct PoissonOptions {
   // kArcs: when > 0, marching cubes no finer than cells of this side (input
   // units); SpsrOptions::extract_max_cell. 0 = the quantile's level.
   double extract_max_cell = 0;
+  // kArcs: SpsrOptions::normal_splat and density_scale (spsr.h).
+  SpsrOptions::NormalSplat normal_splat = SpsrOptions::NormalSplat::kSplit;
+  double density_scale = 1.0;
   // false: point_weight is PCL's own number (PCL divides it by the point
   // count: per-point screening w * 2^d / N). true: it means what
   // PoissonRecon 16/18's --pointWeight means (the official RFTA passes 10):
@@ -129,6 +132,11 @@ struct PoissonOptions {
 // the cloud, 1.5 samples per node, PoissonRecon's point weight 10
 // (area-normalised), no open-surface re-solves. Measured in docs/poisson.md.
 PoissonOptions OfficialRftaPoisson();
+
+// The screened_poisson stage's `normal_splat` names.
+inline constexpr EnumName<SpsrOptions::NormalSplat> kSpsrNormalSplatNames[] = {
+    {SpsrOptions::NormalSplat::kSplit, "split"},
+    {SpsrOptions::NormalSplat::kCeil, "ceil"}};
 
 // The screened_poisson stage's `fine_solver` names.
 inline constexpr EnumName<SpsrOptions::FineSolver> kSpsrFineSolverNames[] = {

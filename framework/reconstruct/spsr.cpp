@@ -337,7 +337,7 @@ void Solver::DensityAndDepth() {
       if (done[s]) continue;
       double dens = 0;
       for (int q = 0; q < 8; ++q) dens += wt[s][q] * W[corner[s][q]];
-      dens = std::max(dens, 1e-12);
+      dens = std::max(dens * o_.density_scale, 1e-12);
       if (dens < o_.samples_per_node && !last) continue;
       done[s] = 1;
       area_[s] = he * he / dens;
@@ -493,7 +493,10 @@ void Solver::Splat(std::vector<std::vector<Vec3>>& V) {
       const double ds = depth_[s];
       const double lo = std::floor(ds);
       double w;
-      if (d == static_cast<int>(lo)) {
+      if (o_.normal_splat == SpsrOptions::NormalSplat::kCeil) {
+        if (d != static_cast<int>(std::ceil(ds - 1e-9))) continue;
+        w = 1.0;
+      } else if (d == static_cast<int>(lo)) {
         w = 1.0 - (ds - lo);
       } else if (d == static_cast<int>(lo) + 1) {
         w = ds - lo;
@@ -1397,6 +1400,9 @@ Mesh ReconstructSpsr(const PointCloud& oriented, const SpsrOptions& options, con
                     options.kernel_depth_offset, "in [0, 6]");
   ARCS_CHECK_OPTION(std::isfinite(options.extract_max_cell) && options.extract_max_cell >= 0, "extract_max_cell",
                     options.extract_max_cell, "finite and >= 0");
+  ARCS_CHECK_OPTION(std::isfinite(options.density_scale) && options.density_scale >= 0.1 &&
+                        options.density_scale <= 10.0,
+                    "density_scale", options.density_scale, "in [0.1, 10]");
   Solver solver(options, ctx);
   return solver.Run(oriented, warm, info);
 }

@@ -74,6 +74,20 @@ struct SpsrOptions {
   FineSolver fine_solver = FineSolver::kCgJacobi;
   int gs_iters = 8;
   int kernel_depth_offset = 2;  // density kernel at depth - this
+  // Where a sample's normal is splatted, given its fractional depth d_s.
+  // kSplit: 1 - frac(d_s) at floor(d_s) and frac(d_s) at floor(d_s) + 1
+  // (Kazhdan & Hoppe's scheme; PoissonRecon 12). kCeil: all of it at
+  // ceil(d_s), which is what PoissonRecon 16.01 / 18.04 do (the official
+  // RFTA's call): their splat helper is called for the sample's node with
+  // weight frac and for its parent with 1 - frac, but splats into the
+  // sample's node both times (docs/poisson.md, session 24).
+  enum class NormalSplat { kSplit, kCeil };
+  NormalSplat normal_splat = NormalSplat::kSplit;
+  // Multiplies the samples' density estimate (tent splats: a planar sheet
+  // reads between 1/2 and 1 of its samples per node area, 2/3 on average;
+  // PoissonRecon's normalised quadratic kernel reads about 1). 1.5 corrects
+  // the average: sample depths 0.29 level deeper, areas 2/3 as large.
+  double density_scale = 1.0;
   // The marching-cubes level: the samples' depth at this quantile, rounded
   // up (1 = the finest level with cells). The solution is the same; a finer
   // level only resolves it more finely, with more triangles.

@@ -52,6 +52,14 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
               "backend arcs: when > 0, marching cubes no finer than cells of this side (input units; 0 = the "
               "quantile's level); rfta sets it for its tuning surfaces from tuning_cell",
               Closed(0.0, 1e9))
+      .Enum("normal_splat", &O::normal_splat, kSpsrNormalSplatNames,
+            "backend arcs: where a sample's normal goes at fractional depth d: split = 1-frac(d) at floor(d), "
+            "frac(d) at floor(d)+1 (PoissonRecon 12); ceil = all at ceil(d) (PoissonRecon 16.01/18.04, the "
+            "official RFTA's call)")
+      .Double("density_scale", &O::density_scale,
+              "backend arcs: multiplies the samples' density estimate (1.5: a planar sheet then reads its "
+              "samples per node area on average, as PoissonRecon's normalised kernel)",
+              Closed(0.1, 10.0))
       .Bool("warm_start", &O::warm_start,
             "backend arcs: a repeated call for one case (RFTA's fine-tuning) starts from the previous solution")
       .Bool("area_normalized", &O::area_normalized,
