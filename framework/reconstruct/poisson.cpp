@@ -380,6 +380,7 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
     so.extract_max_cell = options.extract_max_cell;
     so.normal_splat = options.normal_splat;
     so.density_scale = options.density_scale;
+    so.iso_weight = options.iso_weight;
     std::shared_ptr<SpsrWarmStart> state;
     const bool use_warm = warm && options.warm_start;
     if (use_warm) state = std::static_pointer_cast<SpsrWarmStart>(*warm);

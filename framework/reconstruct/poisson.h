@@ -111,6 +111,7 @@ struct PoissonOptions {
   // kArcs: SpsrOptions::normal_splat and density_scale (spsr.h).
   SpsrOptions::NormalSplat normal_splat = SpsrOptions::NormalSplat::kSplit;
   double density_scale = 1.0;
+  SpsrOptions::IsoWeight iso_weight = SpsrOptions::IsoWeight::kArea;
   // false: point_weight is PCL's own number (PCL divides it by the point
   // count: per-point screening w * 2^d / N). true: it means what
   // PoissonRecon 16/18's --pointWeight means (the official RFTA passes 10):
@@ -137,6 +138,11 @@ PoissonOptions OfficialRftaPoisson();
 inline constexpr EnumName<SpsrOptions::NormalSplat> kSpsrNormalSplatNames[] = {
     {SpsrOptions::NormalSplat::kSplit, "split"},
     {SpsrOptions::NormalSplat::kCeil, "ceil"}};
+
+// The screened_poisson stage's `iso_weight` names.
+inline constexpr EnumName<SpsrOptions::IsoWeight> kSpsrIsoWeightNames[] = {
+    {SpsrOptions::IsoWeight::kArea, "area"},
+    {SpsrOptions::IsoWeight::kCount, "count"}};
 
 // The screened_poisson stage's `fine_solver` names.
 inline constexpr EnumName<SpsrOptions::FineSolver> kSpsrFineSolverNames[] = {

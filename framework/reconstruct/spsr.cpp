@@ -1350,9 +1350,10 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
   }
   const auto t1 = Clock::now();
   double vsum = 0;
-  for (std::size_t s = 0; s < p_.size(); ++s) vsum += area_[s] * Chi(p_[s]);
+  const bool by_count = o_.iso_weight == SpsrOptions::IsoWeight::kCount;
+  for (std::size_t s = 0; s < p_.size(); ++s) vsum += (by_count ? 1.0 : area_[s]) * Chi(p_[s]);
   const double area = mean_area_ * static_cast<double>(p_.size());
-  const double iso = vsum / area;
+  const double iso = by_count ? vsum / static_cast<double>(p_.size()) : vsum / area;
   Mesh m = Extract(iso);
   const auto t2 = Clock::now();
   if (warm) {

@@ -88,6 +88,11 @@ struct SpsrOptions {
   // PoissonRecon's normalised quadratic kernel reads about 1). 1.5 corrects
   // the average: sample depths 0.29 level deeper, areas 2/3 as large.
   double density_scale = 1.0;
+  // The iso-value: the mean of the solution at the samples, weighted by
+  // their areas a_s (kArea) or each sample alike (kCount: PoissonRecon
+  // weighs each octree-merged sample by its point count).
+  enum class IsoWeight { kArea, kCount };
+  IsoWeight iso_weight = IsoWeight::kArea;
   // The marching-cubes level: the samples' depth at this quantile, rounded
   // up (1 = the finest level with cells). The solution is the same; a finer
   // level only resolves it more finely, with more triangles.

@@ -60,6 +60,9 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
               "backend arcs: multiplies the samples' density estimate (1.5: a planar sheet then reads its "
               "samples per node area on average, as PoissonRecon's normalised kernel)",
               Closed(0.1, 10.0))
+      .Enum("iso_weight", &O::iso_weight, kSpsrIsoWeightNames,
+            "backend arcs: the iso-value is the mean of the solution at the samples weighted by their areas "
+            "(area) or alike (count: PoissonRecon's, by merged point count)")
       .Bool("warm_start", &O::warm_start,
             "backend arcs: a repeated call for one case (RFTA's fine-tuning) starts from the previous solution")
       .Bool("area_normalized", &O::area_normalized,

@@ -140,6 +140,15 @@ TEST(Spsr, DensityScaleScalesTheAreaAndCeilSplatKeepsTheSurface) {
   double worst = 0;
   for (int i = 0; i < b.NumVertices(); ++i) worst = std::max(worst, std::abs(Vec3(b.V.row(i)).norm() - r));
   EXPECT_LT(worst, 0.03 * r);
+  // iso_weight count: the samples alike (their areas vary), another
+  // iso-value on the same solution, the same closed round sphere.
+  SpsrOptions w;
+  w.iso_weight = SpsrOptions::IsoWeight::kCount;
+  SpsrInfo counted;
+  const Mesh e = ReconstructSpsr(pc, w, Context(1), nullptr, &counted);
+  EXPECT_NE(counted.iso_value, base.iso_value);
+  EXPECT_EQ(ComputeTopology(e).genus, 0);
+  EXPECT_NEAR(Volume(e), Volume(a), 0.03 * Volume(a));
   o.density_scale = 0.0;
   EXPECT_THROW(ReconstructSpsr(pc, o, Context(1)), OptionError);
 }
