@@ -59,11 +59,6 @@ PoissonOptions OfficialRftaPoisson() {
   o.point_weight = 10.0;
   o.area_normalized = true;
   o.open_retries = 0;
-  // PoissonRecon 16.01 / 18.04 splat a sample's whole normal at ceil(d_s),
-  // and their normalised density kernel reads about 1 sample per node area
-  // on a sheet where our tents read 2/3 (docs/poisson.md, session 24).
-  o.normal_splat = SpsrOptions::NormalSplat::kCeil;
-  o.density_scale = 1.5;
   return o;
 }
 

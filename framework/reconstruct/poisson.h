@@ -131,10 +131,7 @@ struct PoissonOptions {
 // fine-tuning surfaces and the final one; ../shared/notes/rfta_official_facts.md
 // §2) with arcs' own solver: FEM degree 1, Neumann, depth 10 in a cube 3.2x
 // the cloud, 1.5 samples per node, PoissonRecon's point weight 10
-// (area-normalised), no open-surface re-solves; each normal at its sample's
-// finer level (normal_splat ceil, as PoissonRecon 16/18 do) and the density
-// estimate scaled by 1.5 (density_scale; session 24). Measured in
-// docs/poisson.md.
+// (area-normalised), no open-surface re-solves. Measured in docs/poisson.md.
 PoissonOptions OfficialRftaPoisson();
 
 // The screened_poisson stage's `normal_splat` names.

@@ -22,8 +22,6 @@ inline StageSpec OfficialPoissonSpec() {
   s.params.Set("point_weight", o.point_weight);
   s.params.Set("open_retries", std::int64_t{o.open_retries});
   s.params.Set("area_normalized", o.area_normalized);
-  s.params.Set("normal_splat", std::string(o.normal_splat == SpsrOptions::NormalSplat::kCeil ? "ceil" : "split"));
-  s.params.Set("density_scale", o.density_scale);
   return s;
 }
 
