@@ -255,7 +255,7 @@ class Solver {
   int islands_ = 0;
   double last_residual_ = 0;  // SolveLevel's relative residual at its end
   // χ at p (unit cube), trilinear on the finest level's grid.
-  double Chi(const Vec3& p);
+  double ChiWith(const Vec3& p, Memo& memo) const;
   Mesh Extract(double iso);
 
   const SpsrOptions& o_;
@@ -388,8 +388,15 @@ void Solver::BuildTree() {
   for (int s = 0; s < n; ++s) Lmax_ = std::max(Lmax_, static_cast<int>(std::ceil(depth_[s] - 1e-9)));
   lv_.assign(Lmax_ - F_ + 1, Level{});
   for (int d = F_; d <= Lmax_; ++d) At(d).d = d;
+  // fn(d) for the levels d = hi, hi - 1, ..., lo, in parallel (each writes
+  // only its own level; a set's contents do not depend on the order).
+  auto for_levels = [](int lo, int hi, auto&& fn) {
+    ParallelFor(hi - lo + 1, [&](std::int64_t l0, std::int64_t l1) {
+      for (std::int64_t l = l0; l < l1; ++l) fn(hi - static_cast<int>(l));
+    }, 1);
+  };
   // Cells around every sample up to its depth.
-  for (int d = F_ + 1; d <= Lmax_; ++d) {
+  for_levels(F_ + 1, Lmax_, [&](int d) {
     BrickSet& set = At(d).cell_set;
     const int res = 1 << d;
     int last[3] = {-1, -1, -1};  // consecutive samples often share a cell: its 27 are in already
@@ -408,7 +415,7 @@ void Solver::BuildTree() {
             set.Insert(Pack(a, b, e));
           }
     }
-  }
+  });
   // Grading: a cell's parent's neighbours exist.
   for (int d = Lmax_; d >= F_ + 2; --d) {
     const std::vector<Key> cells = At(d).cell_set.SortedKeys();
@@ -429,7 +436,9 @@ void Solver::BuildTree() {
           }
     }
   }
-  for (int d = F_; d <= Lmax_; ++d) {
+  // The levels' nodes and screened samples (the finest level, the largest,
+  // starts first).
+  for_levels(F_, Lmax_, [&](int d) {
     Level& L = At(d);
     if (d == F_) {
       BuildLevel(L, {}, true);
@@ -460,7 +469,7 @@ void Solver::BuildTree() {
       L.s_corner.push_back(cor);
       L.s_w.push_back(ww);
     }
-  }
+  });
 }
 
 Vec3 Solver::ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z) const {
@@ -883,14 +892,14 @@ double Solver::ValueWith(int level, Key k, Memo& memo) const {
   return v;
 }
 
-double Solver::Chi(const Vec3& p) {
+double Solver::ChiWith(const Vec3& p, Memo& memo) const {
   const int res = 1 << Lmax_;
   int c[3];
   double w[8];
   CellOf(p, res, c, w);
   double v = 0;
   for (int q = 0; q < 8; ++q)
-    v += w[q] * Value(Lmax_, Pack(c[0] + (q & 1), c[1] + ((q >> 1) & 1), c[2] + ((q >> 2) & 1)));
+    v += w[q] * ValueWith(Lmax_, Pack(c[0] + (q & 1), c[1] + ((q >> 1) & 1), c[2] + ((q >> 2) & 1)), memo);
   return v;
 }
 
@@ -1351,7 +1360,16 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
   const auto t1 = Clock::now();
   double vsum = 0;
   const bool by_count = o_.iso_weight == SpsrOptions::IsoWeight::kCount;
-  for (std::size_t s = 0; s < p_.size(); ++s) vsum += (by_count ? 1.0 : area_[s]) * Chi(p_[s]);
+  {
+    // χ at the samples in parallel (each block with its own memo: the same
+    // values), summed in sample order.
+    std::vector<double> chi(p_.size());
+    ParallelFor(static_cast<std::int64_t>(p_.size()), [&](std::int64_t b0, std::int64_t e0) {
+      Memo memo(lv_.size());
+      for (std::int64_t s = b0; s < e0; ++s) chi[s] = ChiWith(p_[s], memo);
+    }, 1024);
+    for (std::size_t s = 0; s < p_.size(); ++s) vsum += (by_count ? 1.0 : area_[s]) * chi[s];
+  }
   const double area = mean_area_ * static_cast<double>(p_.size());
   const double iso = by_count ? vsum / static_cast<double>(p_.size()) : vsum / area;
   Mesh m = Extract(iso);
