@@ -26,7 +26,7 @@ namespace arcs {
 
 namespace {
 
-using namespace spsr_keys;  // Key, Pack, KeyMap, NodeCache, BrickIndex, BrickSet
+using namespace spsr_keys;  // Key, Pack, KeyMap, NodeCache, BrickIndex, the sorted-set helpers
 
 // 1D integrals of degree-1 tents on the level's grid (nodes 0..res, h = 1/res),
 // cut at the cube's faces (Neumann): mass M, stiffness S (∫B_a' B_b'),
@@ -62,7 +62,6 @@ struct Level {
   Tent1D tent{};
   std::vector<Key> nodes;  // sorted unknowns (corners of existing cells)
   BrickIndex node_map;
-  BrickSet cell_set;       // existing cells
   std::vector<int> nbr;    // 27 per node: index of the neighbour unknown or -1
   std::vector<unsigned char> on_face;  // node touches the cube's boundary
   // Samples whose cell exists at this level: index, corner unknowns, weights.
@@ -233,7 +232,9 @@ class Solver {
   void Normalise(const PointCloud& pc);
   void DensityAndDepth();
   void BuildTree();
-  void BuildLevel(Level& L, const std::vector<Key>& cells, bool complete);
+  // The level's unknowns: `nodes` (sorted, distinct), or every node of a
+  // complete level; their index, stencil neighbours and faces.
+  void BuildLevel(Level& L, std::vector<Key> nodes, bool complete);
   void Splat(std::vector<std::vector<Vec3>>& V);
   void Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<std::vector<double>>& b);
   Vec3 ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z) const;
@@ -349,7 +350,7 @@ void Solver::DensityAndDepth() {
   mean_area_ = sum / n;
 }
 
-void Solver::BuildLevel(Level& L, const std::vector<Key>& cells, bool complete) {
+void Solver::BuildLevel(Level& L, std::vector<Key> nodes, bool complete) {
   L.res = 1 << L.d;
   L.h = 1.0 / L.res;
   L.tent = Tent1D{L.h, L.res};
@@ -360,12 +361,7 @@ void Solver::BuildLevel(Level& L, const std::vector<Key>& cells, bool complete) 
         for (int x = 0; x <= L.res; ++x) L.nodes.push_back(Pack(x, y, z));
     std::sort(L.nodes.begin(), L.nodes.end());
   } else {
-    BrickSet set;
-    for (Key c : cells) {
-      const int x = KX(c), y = KY(c), z = KZ(c);
-      for (int q = 0; q < 8; ++q) set.Insert(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1)));
-    }
-    L.nodes = set.SortedKeys();
+    L.nodes = std::move(nodes);
   }
   L.node_map = BrickIndex::IndexOf(L.nodes);
   const std::size_t nn = L.nodes.size();
@@ -389,76 +385,61 @@ void Solver::BuildTree() {
   lv_.assign(Lmax_ - F_ + 1, Level{});
   for (int d = F_; d <= Lmax_; ++d) At(d).d = d;
   // fn(d) for the levels d = hi, hi - 1, ..., lo, in parallel (each writes
-  // only its own level; a set's contents do not depend on the order).
+  // only its own level).
   auto for_levels = [](int lo, int hi, auto&& fn) {
     ParallelFor(hi - lo + 1, [&](std::int64_t l0, std::int64_t l1) {
       for (std::int64_t l = l0; l < l1; ++l) fn(hi - static_cast<int>(l));
     }, 1);
   };
-  // Cells around every sample up to its depth.
+  // Each level's cells as a sorted key list (sets by merging, not hashing).
+  std::vector<std::vector<Key>> cells(lv_.size());
+  // Cells around every sample up to its depth: the samples' own cells,
+  // dilated by one cell.
   for_levels(F_ + 1, Lmax_, [&](int d) {
-    BrickSet& set = At(d).cell_set;
     const int res = 1 << d;
-    int last[3] = {-1, -1, -1};  // consecutive samples often share a cell: its 27 are in already
+    std::vector<Key> own;
+    Key last = ~Key(0);  // consecutive samples often share a cell
     for (int s = 0; s < n; ++s) {
       if (std::ceil(depth_[s] - 1e-9) < d) continue;
       int c[3];
       double w[8];
       CellOf(p_[s], res, c, w);
-      if (c[0] == last[0] && c[1] == last[1] && c[2] == last[2]) continue;
-      last[0] = c[0], last[1] = c[1], last[2] = c[2];
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int a = c[0] + dx, b = c[1] + dy, e = c[2] + dz;
-            if (a < 0 || b < 0 || e < 0 || a >= res || b >= res || e >= res) continue;
-            set.Insert(Pack(a, b, e));
-          }
+      const Key k = Pack(c[0], c[1], c[2]);
+      if (k != last) own.push_back(k);
+      last = k;
     }
+    SortUnique(own);
+    cells[d - F_] = DilateCells(own, res);
   });
   // Grading: a cell's parent's neighbours exist.
   for (int d = Lmax_; d >= F_ + 2; --d) {
-    const std::vector<Key> cells = At(d).cell_set.SortedKeys();
-    BrickSet& up = At(d - 1).cell_set;
-    const int res = 1 << (d - 1);
-    Key last = ~Key(0);
-    for (Key c : cells) {
-      const Key parent = Pack(KX(c) >> 1, KY(c) >> 1, KZ(c) >> 1);
-      if (parent == last) continue;
-      last = parent;
-      const int px = KX(parent), py = KY(parent), pz = KZ(parent);
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int a = px + dx, b = py + dy, e = pz + dz;
-            if (a < 0 || b < 0 || e < 0 || a >= res || b >= res || e >= res) continue;
-            up.Insert(Pack(a, b, e));
-          }
-    }
+    const std::vector<Key>& fine = cells[d - F_];
+    std::vector<Key> parents(fine.size());
+    for (std::size_t i = 0; i < fine.size(); ++i) parents[i] = Pack(KX(fine[i]) >> 1, KY(fine[i]) >> 1, KZ(fine[i]) >> 1);
+    SortUnique(parents);
+    std::vector<Key>& up = cells[d - 1 - F_];
+    up = Union(up, DilateCells(parents, 1 << (d - 1)));
   }
-  // The levels' nodes and screened samples (the finest level, the largest,
-  // starts first).
+  // The levels' nodes (their cells' corners) and screened samples (the
+  // finest level, the largest, starts first).
   for_levels(F_, Lmax_, [&](int d) {
     Level& L = At(d);
     if (d == F_) {
       BuildLevel(L, {}, true);
-      const int res = 1 << d;
-      for (int z = 0; z < res; ++z)
-        for (int y = 0; y < res; ++y)
-          for (int x = 0; x < res; ++x) L.cell_set.Insert(Pack(x, y, z));
     } else {
-      BuildLevel(L, L.cell_set.SortedKeys(), false);
+      BuildLevel(L, CellCorners(cells[d - F_]), false);
+      std::vector<Key>().swap(cells[d - F_]);
     }
     // Samples screened at this level: those whose own depth reaches it (a
     // sparse sample, e.g. a stray point near denser ones, constrains only
     // the coarse levels it can support, as its normal is splatted there;
     // screened at the finest level it made one-cell bubbles around itself).
+    // Their cells exist: the cells around each such sample were made above.
     for (int s = 0; s < n; ++s) {
       if (std::ceil(depth_[s] - 1e-9) < d) continue;
       int c[3];
       double w[8];
       CellOf(p_[s], L.res, c, w);
-      if (!L.cell_set.Contains(Pack(c[0], c[1], c[2]))) continue;
       std::array<int, 8> cor;
       std::array<double, 8> ww;
       for (int q = 0; q < 8; ++q) {

@@ -1,14 +1,18 @@
 // Key containers for screened Poisson's octree (spsr.cpp): integer node and
 // cell coordinates packed into 64-bit keys, an open-addressing map from keys
-// to ints, and containers that hold keys in 4^3 bricks (values at nodes, an
-// index of a sorted key list, a set). Internal to framework/reconstruct: the
+// to ints, containers that hold keys in 4^3 bricks (values at nodes, an
+// index of a sorted key list), and sets of keys as sorted lists (union,
+// dilation by a cell, cell corners). Internal to framework/reconstruct: the
 // octree's levels, its extraction caches and its tests use them; nothing else
 // should.
 #pragma once
 
+#include <tbb/parallel_sort.h>
+
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <utility>
 #include <vector>
 
@@ -234,16 +238,75 @@ class BrickIndex {
   NodeCache<int> c_;
 };
 
-// A set of keys in bricks (NodeCache): the octree levels' cells and their
-// corners.
-class BrickSet {
- public:
-  void Insert(Key k) { c_.Set(k, 1); }
-  bool Contains(Key k) const { return c_.Lookup(k) != nullptr; }
-  std::vector<Key> SortedKeys() const { return c_.SortedKeys(); }
+// Sorted sets of keys (the octree's cells and nodes, built by merging sorted
+// lists, not by hashing).
+//
+// Sorts keys and drops repeats (in parallel: equal keys are the same bits,
+// so the result is the one sorted set).
+inline void SortUnique(std::vector<Key>& keys) {
+  tbb::parallel_sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+}
 
- private:
-  NodeCache<char> c_;
-};
+// a ∪ b, both sorted and distinct.
+inline std::vector<Key> Union(const std::vector<Key>& a, const std::vector<Key>& b) {
+  std::vector<Key> out;
+  out.reserve(a.size() + b.size());
+  std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(out));
+  return out;
+}
+
+// The set `in` (sorted, distinct) shifted along `axis` by each offset in
+// [lo, hi] (lo <= 0 <= hi, at most three offsets), keeping coordinates in
+// [0, limit): their union, sorted. A shift adds a constant to every key
+// whose coordinate stays in range, so each shifted copy is sorted and one
+// merge makes the union.
+inline std::vector<Key> ShiftUnion(const std::vector<Key>& in, int axis, int lo, int hi, int limit) {
+  const int shift = kBits * axis;
+  const Key unit = Key(1) << shift;
+  const int m = std::min(hi - lo + 1, 3);
+  std::size_t at[3] = {0, 0, 0};
+  Key cur[3] = {0, 0, 0};
+  bool live[3] = {false, false, false};
+  // Copy j: `in` shifted by lo + j; the next key in range goes to cur[j].
+  auto advance = [&](int j) {
+    const int off = lo + j;
+    while (at[j] < in.size()) {
+      const Key k = in[at[j]++];
+      const int c = static_cast<int>((k >> shift) & kMask) + off;
+      if (c >= 0 && c < limit) {
+        cur[j] = off >= 0 ? k + unit * static_cast<Key>(off) : k - unit * static_cast<Key>(-off);
+        return true;
+      }
+    }
+    return false;
+  };
+  for (int j = 0; j < m; ++j) live[j] = advance(j);
+  std::vector<Key> out;
+  out.reserve(in.size() * 2);
+  for (;;) {
+    int best = -1;
+    for (int j = 0; j < m; ++j)
+      if (live[j] && (best < 0 || cur[j] < cur[best])) best = j;
+    if (best < 0) break;
+    const Key k = cur[best];
+    out.push_back(k);
+    for (int j = 0; j < m; ++j)
+      if (live[j] && cur[j] == k) live[j] = advance(j);
+  }
+  return out;
+}
+
+// Every cell within one cell (the 3 x 3 x 3 block) of a cell of `cells`,
+// on a grid of res cells per side: separable, one axis at a time.
+inline std::vector<Key> DilateCells(const std::vector<Key>& cells, int res) {
+  return ShiftUnion(ShiftUnion(ShiftUnion(cells, 0, -1, 1, res), 1, -1, 1, res), 2, -1, 1, res);
+}
+
+// The corners of the cells (nodes (x..x+1, y..y+1, z..z+1)), sorted.
+inline std::vector<Key> CellCorners(const std::vector<Key>& cells) {
+  constexpr int kAny = 1 << kBits;  // corners are never out of range
+  return ShiftUnion(ShiftUnion(ShiftUnion(cells, 0, 0, 1, kAny), 1, 0, 1, kAny), 2, 0, 1, kAny);
+}
 
 }  // namespace arcs::spsr_keys

@@ -95,24 +95,57 @@ TEST(SpsrKeys, NodeCacheMatchesStdMapWithAndWithoutLattice) {
   CheckNodeCache(NodeCache<double>(3, 128), lattice, &rng);
 }
 
-TEST(SpsrKeys, BrickIndexAndBrickSetMatchSortedList) {
+TEST(SpsrKeys, BrickIndexMatchesSortedList) {
   std::mt19937 rng(13);
   const std::vector<Key> keys = RandomKeys(&rng, 12000);
   std::set<Key> ref(keys.begin(), keys.end());
-  BrickSet set;
-  for (const Key k : keys) set.Insert(k);
   const std::vector<Key> sorted(ref.begin(), ref.end());
-  EXPECT_EQ(set.SortedKeys(), sorted);
   const BrickIndex index = BrickIndex::IndexOf(sorted);
-  for (std::size_t i = 0; i < sorted.size(); ++i) {
-    EXPECT_TRUE(set.Contains(sorted[i]));
-    EXPECT_EQ(index.Find(sorted[i]), static_cast<int>(i));
-  }
+  for (std::size_t i = 0; i < sorted.size(); ++i) EXPECT_EQ(index.Find(sorted[i]), static_cast<int>(i));
+  int absent = 0;
   for (const Key k : RandomKeys(&rng, 3000)) {
     if (ref.count(k)) continue;
-    EXPECT_FALSE(set.Contains(k));
     EXPECT_EQ(index.Find(k), -1);
+    ++absent;
   }
+  EXPECT_GT(absent, 100);
+}
+
+// The sorted-set helpers against std::set built key by key: the union,
+// the 3 x 3 x 3 dilation clipped to the grid (cells at the grid's faces
+// included), and the cells' corners.
+TEST(SpsrKeys, SortedSetHelpersMatchStdSet) {
+  std::mt19937 rng(19);
+  constexpr int kRes = 1024;
+  std::vector<Key> a = RandomKeys(&rng, 9000), b = RandomKeys(&rng, 7000);
+  for (int x = 0; x < 3; ++x)  // cells at the grid's low and high faces
+    for (int y = 0; y < 2; ++y) {
+      a.push_back(Pack(x, y, 0));
+      a.push_back(Pack(kRes - 1 - x, kRes - 1, kRes - 1 - y));
+    }
+  std::vector<Key> sa = a, sb = b;
+  SortUnique(sa);
+  SortUnique(sb);
+  const std::set<Key> ra(a.begin(), a.end()), rb(b.begin(), b.end());
+  EXPECT_EQ(sa, std::vector<Key>(ra.begin(), ra.end()));
+  std::set<Key> ru = ra;
+  ru.insert(rb.begin(), rb.end());
+  EXPECT_EQ(Union(sa, sb), std::vector<Key>(ru.begin(), ru.end()));
+  std::set<Key> dilated, corners;
+  for (const Key k : ra) {
+    const int x = KX(k), y = KY(k), z = KZ(k);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int p = x + dx, q = y + dy, r = z + dz;
+          if (p >= 0 && q >= 0 && r >= 0 && p < kRes && q < kRes && r < kRes) dilated.insert(Pack(p, q, r));
+        }
+    for (int c = 0; c < 8; ++c) corners.insert(Pack(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1)));
+  }
+  EXPECT_EQ(DilateCells(sa, kRes), std::vector<Key>(dilated.begin(), dilated.end()));
+  EXPECT_EQ(CellCorners(sa), std::vector<Key>(corners.begin(), corners.end()));
+  EXPECT_TRUE(DilateCells({}, kRes).empty());
+  EXPECT_EQ(DilateCells({Pack(0, 0, 0)}, 1), std::vector<Key>{Pack(0, 0, 0)});  // a one-cell grid
 }
 
 // Find27 gives what 27 calls of Find give, -1 outside [0, res]^3, for nodes
