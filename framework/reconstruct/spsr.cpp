@@ -371,8 +371,8 @@ void Solver::BuildLevel(Level& L, std::vector<Key> nodes, bool complete) {
     for (std::int64_t i = b0; i < e0; ++i) {
       const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
       L.on_face[i] = (x == 0 || y == 0 || z == 0 || x == L.res || y == L.res || z == L.res);
-      L.node_map.Find27(x, y, z, L.res, &L.nbr[i * 27]);
     }
+    NeighbourRows(L.nodes, L.res, static_cast<std::size_t>(b0), static_cast<std::size_t>(e0), &L.nbr[b0 * 27]);
   }, 2048);
   L.x.assign(nn, 0.0);
   L.U.assign(nn, 0.0);
@@ -440,10 +440,12 @@ void Solver::BuildTree() {
       int c[3];
       double w[8];
       CellOf(p_[s], L.res, c, w);
+      // The cell's low corner and, from its stencil row, the other seven.
+      const int c0 = L.node_map.Find(Pack(c[0], c[1], c[2]));
       std::array<int, 8> cor;
       std::array<double, 8> ww;
       for (int q = 0; q < 8; ++q) {
-        cor[q] = L.node_map.Find(Pack(c[0] + (q & 1), c[1] + ((q >> 1) & 1), c[2] + ((q >> 2) & 1)));
+        cor[q] = L.nbr[static_cast<std::size_t>(c0) * 27 + 13 + (q & 1) + 3 * ((q >> 1) & 1) + 9 * ((q >> 2) & 1)];
         ww[q] = w[q];
       }
       L.s_idx.push_back(s);

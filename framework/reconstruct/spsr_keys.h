@@ -137,18 +137,6 @@ class NodeCache {
     val_[static_cast<std::size_t>(i)] = v;
     known_[static_cast<std::size_t>(i)] = 1;
   }
-  // The nodes of brick (bx, by, bz) (with B = 2^kBrickBits: nodes (B bx + i,
-  // B by + j, B bz + k), i, j, k < B, at local index i + B j + B^2 k): their values and known
-  // flags, or false when the brick does not exist. Nodes of the dense
-  // lattice are not in bricks.
-  bool Brick(int bx, int by, int bz, const T** val, const unsigned char** known) const {
-    const int b = bricks_.Find(Pack(bx, by, bz));
-    if (b < 0) return false;
-    const std::size_t base = dense_ + static_cast<std::size_t>(b) * kCount;
-    *val = &val_[base];
-    *known = &known_[base];
-    return true;
-  }
   // Every known key, sorted.
   std::vector<Key> SortedKeys() const {
     std::vector<Key> out;
@@ -206,34 +194,6 @@ class BrickIndex {
     const int* i = c_.Lookup(k);
     return i ? *i : -1;
   }
-  // The indices of the 27 nodes (x + dx, y + dy, z + dz), d in {-1, 0, 1}, x
-  // fastest, with -1 for nodes that are not in the list or lie outside
-  // [0, res]^3: the same answers as 27 calls of Find, from at most 8 brick
-  // lookups (the 3^3 block spans at most two bricks per axis).
-  void Find27(int x, int y, int z, int res, int* out) const {
-    constexpr int kB = NodeCache<int>::kBrickBits, kLow = (1 << kB) - 1;
-    static_assert(kB >= 1, "a 3^3 block must span at most two bricks per axis");
-    const int lo[3] = {std::max(x - 1, 0) >> kB, std::max(y - 1, 0) >> kB, std::max(z - 1, 0) >> kB};
-    const int* val[8];
-    const unsigned char* known[8];
-    bool looked[8] = {false, false, false, false, false, false, false, false};
-    bool have[8];
-    for (int o = 0; o < 27; ++o) {
-      const int a = x + o % 3 - 1, b = y + (o / 3) % 3 - 1, c = z + o / 9 - 1;
-      if (a < 0 || b < 0 || c < 0 || a > res || b > res || c > res) {
-        out[o] = -1;
-        continue;
-      }
-      const int q = ((a >> kB) - lo[0]) | (((b >> kB) - lo[1]) << 1) | (((c >> kB) - lo[2]) << 2);
-      if (!looked[q]) {
-        looked[q] = true;
-        have[q] = c_.Brick(a >> kB, b >> kB, c >> kB, &val[q], &known[q]);
-      }
-      const int l = (a & kLow) | ((b & kLow) << kB) | ((c & kLow) << (2 * kB));
-      out[o] = have[q] && known[q][l] ? val[q][l] : -1;
-    }
-  }
-
  private:
   NodeCache<int> c_;
 };
@@ -307,6 +267,48 @@ inline std::vector<Key> DilateCells(const std::vector<Key>& cells, int res) {
 inline std::vector<Key> CellCorners(const std::vector<Key>& cells) {
   constexpr int kAny = 1 << kBits;  // corners are never out of range
   return ShiftUnion(ShiftUnion(ShiftUnion(cells, 0, 0, 1, kAny), 1, 0, 1, kAny), 2, 0, 1, kAny);
+}
+
+// Row i of the 27-point neighbour table of `nodes` (sorted, distinct,
+// coordinates in [0, res]) for i in [begin, end): out[27 (i - begin) + o] is
+// the index in `nodes` of (x + dx, y + dy, z + dz), o = (dx + 1) + 3 (dy + 1)
+// + 9 (dz + 1), or -1 when that node is not in the list or lies outside
+// [0, res]^3 (what 27 calls of BrickIndex::Find give). For each of the nine (dy, dz)
+// the keys sought grow with i, so a pointer per row walks the list forward:
+// no hashing.
+inline void NeighbourRows(const std::vector<Key>& nodes, int res, std::size_t begin, std::size_t end, int* out) {
+  const std::size_t n = nodes.size();
+  std::size_t ptr[9];
+  bool started[9] = {false, false, false, false, false, false, false, false, false};
+  for (std::size_t i = begin; i < end; ++i, out += 27) {
+    const int x = KX(nodes[i]), y = KY(nodes[i]), z = KZ(nodes[i]);
+    for (int r = 0; r < 9; ++r) {
+      const int yy = y + r % 3 - 1, zz = z + r / 3 - 1;
+      int* row = out + 3 * r;
+      if (yy < 0 || zz < 0 || yy > res || zz > res) {
+        row[0] = row[1] = row[2] = -1;
+        continue;
+      }
+      const Key first = Pack(std::max(x - 1, 0), yy, zz);
+      std::size_t& p = ptr[r];
+      if (!started[r]) {
+        p = static_cast<std::size_t>(std::lower_bound(nodes.begin(), nodes.end(), first) - nodes.begin());
+        started[r] = true;
+      }
+      while (p < n && nodes[p] < first) ++p;
+      std::size_t q = p;
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int xx = x + dx;
+        if (xx < 0 || xx > res) {
+          row[dx + 1] = -1;
+          continue;
+        }
+        const Key k = Pack(xx, yy, zz);
+        while (q < n && nodes[q] < k) ++q;
+        row[dx + 1] = q < n && nodes[q] == k ? static_cast<int>(q) : -1;
+      }
+    }
+  }
 }
 
 }  // namespace arcs::spsr_keys

@@ -148,36 +148,40 @@ TEST(SpsrKeys, SortedSetHelpersMatchStdSet) {
   EXPECT_EQ(DilateCells({Pack(0, 0, 0)}, 1), std::vector<Key>{Pack(0, 0, 0)});  // a one-cell grid
 }
 
-// Find27 gives what 27 calls of Find give, -1 outside [0, res]^3, for nodes
-// of the list (the octree's use), for other points, and at the cube's faces.
-TEST(SpsrKeys, BrickIndexFind27MatchesFind) {
+// NeighbourRows gives what 27 calls of Find give, -1 outside [0, res]^3,
+// for the list's nodes at the cube's faces too, and the same rows whatever
+// the blocks it is called on (the octree calls it on parallel blocks).
+TEST(SpsrKeys, NeighbourRowsMatchFind) {
   std::mt19937 rng(17);
   std::vector<Key> keys = RandomKeys(&rng, 12000);
-  for (int a = 0; a <= 1; ++a)  // a corner patch, so faces and corners are met
+  for (int a = 0; a <= 1; ++a)  // corner patches, so faces and corners are met
     for (int b = 0; b <= 2; ++b)
-      for (int c = 0; c <= 3; ++c) keys.push_back(Pack(a, b, c));
+      for (int c = 0; c <= 3; ++c) {
+        keys.push_back(Pack(a, b, c));
+        keys.push_back(Pack(1023 - a, 1023 - b, 1023 - c));
+      }
   const std::set<Key> ref(keys.begin(), keys.end());
   const std::vector<Key> sorted(ref.begin(), ref.end());
   const BrickIndex index = BrickIndex::IndexOf(sorted);
-  std::vector<Key> queries = sorted;
-  for (const Key k : RandomKeys(&rng, 3000)) queries.push_back(k);
-  queries.push_back(Pack(0, 0, 0));
-  queries.push_back(Pack(1023, 1023, 1023));
   constexpr int kRes = 1023;
+  std::vector<int> whole(sorted.size() * 27), blocks(sorted.size() * 27);
+  NeighbourRows(sorted, kRes, 0, sorted.size(), whole.data());
+  for (std::size_t b = 0; b < sorted.size(); b += 777)
+    NeighbourRows(sorted, kRes, b, std::min(sorted.size(), b + 777), &blocks[b * 27]);
+  EXPECT_EQ(whole, blocks);
   int found = 0;
-  for (const Key k : queries) {
-    const int x = KX(k), y = KY(k), z = KZ(k);
-    int got[27];
-    index.Find27(x, y, z, kRes, got);
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    const int x = KX(sorted[i]), y = KY(sorted[i]), z = KZ(sorted[i]);
     for (int o = 0; o < 27; ++o) {
       const int a = x + o % 3 - 1, b = y + (o / 3) % 3 - 1, c = z + o / 9 - 1;
       const bool inside = a >= 0 && b >= 0 && c >= 0 && a <= kRes && b <= kRes && c <= kRes;
-      ASSERT_EQ(got[o], inside ? index.Find(Pack(a, b, c)) : -1) << "node " << x << " " << y << " " << z << " o " << o;
-      found += got[o] >= 0;
+      ASSERT_EQ(whole[i * 27 + o], inside ? index.Find(Pack(a, b, c)) : -1)
+          << "node " << x << " " << y << " " << z << " o " << o;
+      found += whole[i * 27 + o] >= 0;
     }
   }
   // Each node finds itself; the check must also meet neighbours that exist.
-  EXPECT_GT(found, static_cast<int>(sorted.size()) + 100);
+  EXPECT_GT(found, static_cast<int>(sorted.size()) + 1000);
 }
 
 }  // namespace
