@@ -560,16 +560,17 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
       const Level& Fl = At(d + 1);
       static const double w1[3] = {0.5, 1.0, 0.5};
       ParallelFor(static_cast<std::int64_t>(L.nodes.size()), [&](std::int64_t b0, std::int64_t e0) {
+        // The finer nodes around (2x, 2y, 2z) (those keys grow with i).
+        std::vector<Key> q(static_cast<std::size_t>(e0 - b0));
+        for (std::int64_t i = b0; i < e0; ++i)
+          q[i - b0] = Pack(2 * KX(L.nodes[i]), 2 * KY(L.nodes[i]), 2 * KZ(L.nodes[i]));
+        std::vector<int> rows(q.size() * 27);
+        NeighbourRowsOf(Fl.nodes, Fl.res, q.data(), q.size(), rows.data());
         for (std::int64_t i = b0; i < e0; ++i) {
-          const int x = 2 * KX(L.nodes[i]), y = 2 * KY(L.nodes[i]), z = 2 * KZ(L.nodes[i]);
+          const int* row = &rows[static_cast<std::size_t>(i - b0) * 27];
           double acc = 0;
-          // When (2x, 2y, 2z) is a finer unknown its stencil row lists the
-          // 27 finer neighbours (the same indices the lookups would give).
-          const int j0 = Fl.node_map.Find(Pack(x, y, z));
           for (int o = 0; o < 27; ++o) {
-            const int a = x + Ox(o), bb = y + Oy(o), c = z + Oz(o);
-            if (a < 0 || bb < 0 || c < 0 || a > Fl.res || bb > Fl.res || c > Fl.res) continue;
-            const int j = j0 >= 0 ? Fl.nbr[static_cast<std::size_t>(j0) * 27 + o] : Fl.node_map.Find(Pack(a, bb, c));
+            const int j = row[o];
             if (j < 0) continue;
             acc += w1[Ox(o) + 1] * w1[Oy(o) + 1] * w1[Oz(o) + 1] * fine_next[j];
           }

@@ -269,19 +269,19 @@ inline std::vector<Key> CellCorners(const std::vector<Key>& cells) {
   return ShiftUnion(ShiftUnion(ShiftUnion(cells, 0, 0, 1, kAny), 1, 0, 1, kAny), 2, 0, 1, kAny);
 }
 
-// Row i of the 27-point neighbour table of `nodes` (sorted, distinct,
-// coordinates in [0, res]) for i in [begin, end): out[27 (i - begin) + o] is
-// the index in `nodes` of (x + dx, y + dy, z + dz), o = (dx + 1) + 3 (dy + 1)
-// + 9 (dz + 1), or -1 when that node is not in the list or lies outside
-// [0, res]^3 (what 27 calls of BrickIndex::Find give). For each of the nine (dy, dz)
-// the keys sought grow with i, so a pointer per row walks the list forward:
-// no hashing.
-inline void NeighbourRows(const std::vector<Key>& nodes, int res, std::size_t begin, std::size_t end, int* out) {
+// The 27-point neighbourhoods of the grid nodes q[0] < q[1] < ... < q[count
+// - 1] (keys, coordinates in [0, res]) in `nodes` (sorted, distinct):
+// out[27 i + o] is the index in `nodes` of q[i] + (dx, dy, dz), o = (dx + 1)
+// + 3 (dy + 1) + 9 (dz + 1), or -1 when that node is not in the list or lies
+// outside [0, res]^3 (what 27 calls of BrickIndex::Find give). For each of
+// the nine (dy, dz) the keys sought grow with i, so a pointer per row walks
+// the list forward: no hashing.
+inline void NeighbourRowsOf(const std::vector<Key>& nodes, int res, const Key* q, std::size_t count, int* out) {
   const std::size_t n = nodes.size();
   std::size_t ptr[9];
   bool started[9] = {false, false, false, false, false, false, false, false, false};
-  for (std::size_t i = begin; i < end; ++i, out += 27) {
-    const int x = KX(nodes[i]), y = KY(nodes[i]), z = KZ(nodes[i]);
+  for (std::size_t i = 0; i < count; ++i, out += 27) {
+    const int x = KX(q[i]), y = KY(q[i]), z = KZ(q[i]);
     for (int r = 0; r < 9; ++r) {
       const int yy = y + r % 3 - 1, zz = z + r / 3 - 1;
       int* row = out + 3 * r;
@@ -296,7 +296,7 @@ inline void NeighbourRows(const std::vector<Key>& nodes, int res, std::size_t be
         started[r] = true;
       }
       while (p < n && nodes[p] < first) ++p;
-      std::size_t q = p;
+      std::size_t j = p;
       for (int dx = -1; dx <= 1; ++dx) {
         const int xx = x + dx;
         if (xx < 0 || xx > res) {
@@ -304,11 +304,16 @@ inline void NeighbourRows(const std::vector<Key>& nodes, int res, std::size_t be
           continue;
         }
         const Key k = Pack(xx, yy, zz);
-        while (q < n && nodes[q] < k) ++q;
-        row[dx + 1] = q < n && nodes[q] == k ? static_cast<int>(q) : -1;
+        while (j < n && nodes[j] < k) ++j;
+        row[dx + 1] = j < n && nodes[j] == k ? static_cast<int>(j) : -1;
       }
     }
   }
+}
+
+// Rows [begin, end) of the list's own 27-neighbour table (its nodes' rows).
+inline void NeighbourRows(const std::vector<Key>& nodes, int res, std::size_t begin, std::size_t end, int* out) {
+  NeighbourRowsOf(nodes, res, nodes.data() + begin, end - begin, out);
 }
 
 }  // namespace arcs::spsr_keys

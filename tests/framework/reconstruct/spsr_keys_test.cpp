@@ -148,9 +148,10 @@ TEST(SpsrKeys, SortedSetHelpersMatchStdSet) {
   EXPECT_EQ(DilateCells({Pack(0, 0, 0)}, 1), std::vector<Key>{Pack(0, 0, 0)});  // a one-cell grid
 }
 
-// NeighbourRows gives what 27 calls of Find give, -1 outside [0, res]^3,
-// for the list's nodes at the cube's faces too, and the same rows whatever
-// the blocks it is called on (the octree calls it on parallel blocks).
+// NeighbourRows(Of) give what 27 calls of Find give, -1 outside [0, res]^3,
+// for the list's nodes at the cube's faces too, the same rows whatever the
+// blocks they are called on (the octree calls them on parallel blocks), and
+// for queries that are not nodes.
 TEST(SpsrKeys, NeighbourRowsMatchFind) {
   std::mt19937 rng(17);
   std::vector<Key> keys = RandomKeys(&rng, 12000);
@@ -182,6 +183,28 @@ TEST(SpsrKeys, NeighbourRowsMatchFind) {
   }
   // Each node finds itself; the check must also meet neighbours that exist.
   EXPECT_GT(found, static_cast<int>(sorted.size()) + 1000);
+  // Queries that need not be nodes (the octree asks for the finer nodes
+  // around (2x, 2y, 2z)): sorted, some in the list, some not.
+  std::vector<Key> queries = RandomKeys(&rng, 4000);
+  for (std::size_t i = 0; i < sorted.size(); i += 5) queries.push_back(sorted[i]);
+  queries.push_back(Pack(0, 0, 0));
+  queries.push_back(Pack(kRes, kRes, kRes));
+  const std::set<Key> qs(queries.begin(), queries.end());
+  queries.assign(qs.begin(), qs.end());
+  std::vector<int> got(queries.size() * 27);
+  NeighbourRowsOf(sorted, kRes, queries.data(), queries.size(), got.data());
+  int found_q = 0;
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    const int x = KX(queries[i]), y = KY(queries[i]), z = KZ(queries[i]);
+    for (int o = 0; o < 27; ++o) {
+      const int a = x + o % 3 - 1, b = y + (o / 3) % 3 - 1, c = z + o / 9 - 1;
+      const bool inside = a >= 0 && b >= 0 && c >= 0 && a <= kRes && b <= kRes && c <= kRes;
+      ASSERT_EQ(got[i * 27 + o], inside ? index.Find(Pack(a, b, c)) : -1)
+          << "query " << x << " " << y << " " << z << " o " << o;
+      found_q += got[i * 27 + o] >= 0;
+    }
+  }
+  EXPECT_GT(found_q, 1000);
 }
 
 }  // namespace
