@@ -128,8 +128,11 @@ class MeshTuningSurface final : public TuningSurface {
  public:
   explicit MeshTuningSurface(Mesh m) : mesh_(std::move(m)) {}
   void Prepare() override {
-    // One query per sphere centre: the build dominates, so no oriented boxes.
-    bvh_ = std::make_unique<TriangleBvh>(mesh_, /*oriented_boxes=*/false);
+    // One query per sphere centre, most of them far from the surface: the
+    // oriented boxes prune those (armadillo n = 40: 20 centre passes 5.7 ->
+    // 1.9 s) for a dearer build (2.4 -> 3.8 s); the Morton split keeps the
+    // build cheap (the SAH one took 11 s).
+    bvh_ = std::make_unique<TriangleBvh>(mesh_, TriangleBvh::BuildKind::kMortonOriented);
     sign_ = std::make_unique<PseudonormalSign>(mesh_);
     if (!sign_->closed()) fwn_ = std::make_unique<FastWindingNumber>(mesh_);
   }

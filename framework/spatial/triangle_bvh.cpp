@@ -66,12 +66,14 @@ struct Node {
 // each array is the child (SIMD lane). Empty slots have empty boxes, lo = +inf
 // > hi = -inf, so their bound is +inf. Coordinates are relative to the tree's
 // origin (see Impl).
+// The axis-aligned boxes and the children come first: a tree without oriented
+// boxes reads only those (two cache lines of the node's six).
 struct alignas(64) Node4 {
   float lo[3][4], hi[3][4];    // axis-aligned boxes, rounded outward
-  float rot[9][4];             // oriented frames: rot[3 * k + c] = coordinate c of axis k
-  float olo[3][4], ohi[3][4];  // extents along the oriented axes, rounded outward
   std::int32_t child[4];     // inner: node index; leaf: first triangle
   std::int32_t count[4];     // 0: inner node; > 0: leaf with count triangles; -1: empty
+  float rot[9][4];             // oriented frames: rot[3 * k + c] = coordinate c of axis k
+  float olo[3][4], ohi[3][4];  // extents along the oriented axes, rounded outward
 };
 
 // Relative slack of the pruning test. The bounds are true lower bounds; the
@@ -83,7 +85,10 @@ inline double Dot3(const double* u, const double* v) { return u[0] * v[0] + u[1]
 // Lower bounds of the squared distance from q to the triangles of each child:
 // the larger of the axis-aligned and the oriented box distances, each gap
 // reduced by `margin` (the float rounding of q and of rot * q), the result by
-// a relative 4e-6 (float frames are orthonormal to ~1e-7).
+// a relative 4e-6 (float frames are orthonormal to ~1e-7). Without oriented
+// boxes (Oriented false) the axis-aligned distance alone: the identity frame
+// would give the same value, 1 * q + 0 + 0 = q exactly in float.
+template <bool Oriented>
 inline void ChildLowerBounds(const Node4& n, const float* q, float margin, float* out) {
 #if defined(__SSE2__)
   // Baseline x86-64 SIMD: one lane per child.
@@ -95,6 +100,10 @@ inline void ChildLowerBounds(const Node4& n, const float* q, float margin, float
                                   _mm_sub_ps(qv[k], _mm_load_ps(n.hi[k])));
     const __m128 d = _mm_max_ps(_mm_sub_ps(gap, m), zero);
     s = _mm_add_ps(s, _mm_mul_ps(d, d));
+  }
+  if constexpr (!Oriented) {
+    _mm_store_ps(out, _mm_mul_ps(s, _mm_set1_ps(1.0f - 4e-6f)));
+    return;
   }
   for (int k = 0; k < 3; ++k) {
     const __m128 r = _mm_add_ps(
@@ -111,6 +120,10 @@ inline void ChildLowerBounds(const Node4& n, const float* q, float margin, float
     for (int k = 0; k < 3; ++k) {
       const float d = std::max(std::max(n.lo[k][j] - q[k], q[k] - n.hi[k][j]) - margin, 0.0f);
       s += d * d;
+    }
+    if constexpr (!Oriented) {
+      out[j] = s * (1.0f - 4e-6f);
+      continue;
     }
     for (int k = 0; k < 3; ++k) {
       const float r = n.rot[3 * k][j] * q[0] + n.rot[3 * k + 1][j] * q[1] + n.rot[3 * k + 2][j] * q[2];
@@ -218,15 +231,28 @@ struct TriangleBvh::Impl {
   double coord_scale = 0.0;         // max |coordinate - origin| over the mesh
   int max_depth = 0;                // of the 4-wide tree (sizes the traversal stack)
   bool oriented = true;             // false: the oriented boxes are the axis-aligned ones
+  bool morton = false;              // the Morton-order split instead of the binned SAH
 
   void Build();
   // Oriented box of triangles [begin, end) into slot j of `node`.
-  void FitOrientedBox(int begin, int end, Node4* node, int j) const;
+  // Sums over a set of triangles (coordinates relative to `origin`): area
+  // normals, corners, and corners' second moments (xx, yy, zz, xy, xz, yz).
+  struct Moments {
+    double n[3] = {0, 0, 0}, s[3] = {0, 0, 0}, m[6] = {0, 0, 0, 0, 0, 0};
+    std::int64_t count = 0;  // triangles
+    void Add(const Moments& o) {
+      for (int k = 0; k < 3; ++k) n[k] += o.n[k], s[k] += o.s[k];
+      for (int k = 0; k < 6; ++k) m[k] += o.m[k];
+      count += o.count;
+    }
+  };
+  Moments TriMoments(int t) const;
+  void FitOrientedBox(const Moments& mo, int begin, int end, Node4* node, int j) const;
   // Lexicographic minimum of (sq_dist, face) over faces with sq_dist <=
   // max_sq; face -1 when none.
   // `tri` (optional) receives the internal (leaf-order) triangle index.
   TriangleBvh::Hit Query(const double* q, double max_sq, int* tri = nullptr) const;
-  template <class Entry>
+  template <bool Oriented, class Entry>
   TriangleBvh::Hit QueryWith(const double* q, double max_sq, Entry* stack, int* tri) const;
   double TriSqDist(int i, const double* q, double* p) const {
     return degenerate[i] ? DegenerateClosest(tris[i], q, p) : TriClosest(tris[i], q, p);
@@ -505,7 +531,7 @@ void TriangleBvh::Impl::Build() {
     stack.push_back({right, mid, task.end});
     stack.push_back({left, task.begin, mid});
   };
-  if (!oriented) {
+  if (morton) {
     MortonTopology(items, bin);
   } else {
     const int defer = std::max(4096, nf / 8);
@@ -627,7 +653,7 @@ void TriangleBvh::Impl::Build() {
   };
   // The oriented boxes are fitted afterwards, in parallel (each writes its own slot).
   struct Fit {
-    int node4, slot, begin, end;
+    int node4, slot, begin, end, bnode;
   };
   std::vector<Fit> fits;
   nodes.reserve(nb / 2 + 1);
@@ -673,7 +699,7 @@ void TriangleBvh::Impl::Build() {
         fill.lo[k][j] = RoundDown(c.lo[k] - origin[k]);
         fill.hi[k][j] = RoundUp(c.hi[k] - origin[k]);
       }
-      fits.push_back({pd.node4, j, range_begin[kids[j]], range_end[kids[j]]});
+      fits.push_back({pd.node4, j, range_begin[kids[j]], range_end[kids[j]], kids[j]});
       if (c.count > 0) {
         fill.child[j] = c.first;
         fill.count[j] = c.count;
@@ -700,61 +726,93 @@ void TriangleBvh::Impl::Build() {
     }
     return;
   }
+  // Each binary node's moments: the leaves' from their triangles, an inner
+  // node's as the sum of its children's (children have larger indices).
+  std::vector<Moments> mom(nb);
+  ParallelFor(nb, [&](std::int64_t b0, std::int64_t e0) {
+    for (std::int64_t i = b0; i < e0; ++i) {
+      if (bin[i].count == 0) continue;
+      for (int t = bin[i].first; t < bin[i].first + bin[i].count; ++t) mom[i].Add(TriMoments(t));
+    }
+  }, 4096);
+  for (int i = nb - 1; i >= 0; --i) {
+    if (bin[i].count > 0) continue;
+    mom[i] = mom[i + 1];
+    mom[i].Add(mom[bin[i].first]);
+  }
   ParallelFor(static_cast<std::int64_t>(fits.size()), [&](std::int64_t b0, std::int64_t e0) {
     for (std::int64_t k = b0; k < e0; ++k)
-      FitOrientedBox(fits[k].begin, fits[k].end, &nodes[fits[k].node4], fits[k].slot);
+      FitOrientedBox(mom[fits[k].bnode], fits[k].begin, fits[k].end, &nodes[fits[k].node4], fits[k].slot);
   }, 64);
 }
 
-void TriangleBvh::Impl::FitOrientedBox(int begin, int end, Node4* nd, int j) const {
-  Vec3 nsum = Vec3::Zero(), c = Vec3::Zero();
-  for (int t = begin; t < end; ++t) {
-    const Tri& tr = tris[t];
-    const Vec3 a(tr.a[0], tr.a[1], tr.a[2]), b(tr.b[0], tr.b[1], tr.b[2]), cc(tr.c[0], tr.c[1], tr.c[2]);
-    nsum += (b - a).cross(cc - a);
-    c += a + b + cc;
+TriangleBvh::Impl::Moments TriangleBvh::Impl::TriMoments(int t) const {
+  Moments mo;
+  const Tri& tr = tris[t];
+  const Vec3 a(tr.a[0] - origin[0], tr.a[1] - origin[1], tr.a[2] - origin[2]);
+  const Vec3 b(tr.b[0] - origin[0], tr.b[1] - origin[1], tr.b[2] - origin[2]);
+  const Vec3 c(tr.c[0] - origin[0], tr.c[1] - origin[1], tr.c[2] - origin[2]);
+  const Vec3 n = (b - a).cross(c - a);
+  for (const Vec3* v : {&a, &b, &c}) {
+    const Vec3& p = *v;
+    for (int k = 0; k < 3; ++k) mo.s[k] += p[k];
+    mo.m[0] += p[0] * p[0], mo.m[1] += p[1] * p[1], mo.m[2] += p[2] * p[2];
+    mo.m[3] += p[0] * p[1], mo.m[4] += p[0] * p[2], mo.m[5] += p[1] * p[2];
   }
-  c /= 3.0 * (end - begin);
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (int t = begin; t < end; ++t) {
-    const Tri& tr = tris[t];
-    for (const double* v : {tr.a, tr.b, tr.c}) {
-      const Vec3 d = Vec3(v[0], v[1], v[2]) - c;
-      cov += d * d.transpose();
-    }
-  }
+  for (int k = 0; k < 3; ++k) mo.n[k] = n[k];
+  mo.count = 1;
+  return mo;
+}
+
+void TriangleBvh::Impl::FitOrientedBox(const Moments& mo, int begin, int end, Node4* nd, int j) const {
+  // The frame: the mean area normal (thin extent for a gently curved patch)
+  // and the in-plane direction of largest spread, from the moments. Any
+  // orthonormal frame gives a true bound (the extents below are exact for
+  // it), so the rounding of the moments only affects how tight it is.
+  const double nv = 3.0 * static_cast<double>(mo.count);
+  const Vec3 c(mo.s[0] / nv, mo.s[1] / nv, mo.s[2] / nv);
+  Eigen::Matrix3d cov;
+  cov << mo.m[0], mo.m[3], mo.m[4], mo.m[3], mo.m[1], mo.m[5], mo.m[4], mo.m[5], mo.m[2];
+  cov -= nv * c * c.transpose();
+  const Vec3 nsum(mo.n[0], mo.n[1], mo.n[2]);
   Vec3 n;
   if (nsum.norm() > 0.0) {
-    n = nsum.normalized();  // mean normal: thin extent for a gently curved patch
-  } else {                  // closed or degenerate patch: direction of least spread
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+    n = nsum.normalized();
+  } else {  // closed or degenerate patch: direction of least spread
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+    es.computeDirect(cov);
     n = es.eigenvectors().col(0);
+    if (!(n.norm() > 0.5)) n = Vec3::UnitX();
+    n.normalize();
   }
-  // In-plane principal direction: largest spread after removing n.
   const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n * n.transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(P * cov * P);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.computeDirect(P * cov * P);
   Vec3 t1 = es.eigenvectors().col(2);
   t1 -= n * n.dot(t1);
   if (!(t1.norm() > 1e-6)) t1 = n.unitOrthogonal();
   t1.normalize();
   const Vec3 axes[3] = {n, t1, n.cross(t1)};
-  for (int k = 0; k < 3; ++k) {
-    // The frame is stored in float; extents are exact (in double) for the
-    // float frame, then rounded outward.
-    float r[3];
-    for (int i = 0; i < 3; ++i) r[i] = nd->rot[3 * k + i][j] = static_cast<float>(axes[k][i]);
-    double lo = INFINITY, hi = -INFINITY;
-    for (int t = begin; t < end; ++t) {
-      const Tri& tr = tris[t];
-      for (const double* v : {tr.a, tr.b, tr.c}) {
-        const double d = double(r[0]) * (v[0] - origin[0]) + double(r[1]) * (v[1] - origin[1]) +
-                         double(r[2]) * (v[2] - origin[2]);
-        lo = std::min(lo, d);
-        hi = std::max(hi, d);
+  // The frame is stored in float; extents are exact (in double) for the
+  // float frame, then rounded outward. One pass over the corners.
+  double r[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int i = 0; i < 3; ++i) r[k][i] = nd->rot[3 * k + i][j] = static_cast<float>(axes[k][i]);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+  for (int t = begin; t < end; ++t) {
+    const Tri& tr = tris[t];
+    for (const double* v : {tr.a, tr.b, tr.c}) {
+      const double p[3] = {v[0] - origin[0], v[1] - origin[1], v[2] - origin[2]};
+      for (int k = 0; k < 3; ++k) {
+        const double d = r[k][0] * p[0] + r[k][1] * p[1] + r[k][2] * p[2];
+        lo[k] = std::min(lo[k], d);
+        hi[k] = std::max(hi[k], d);
       }
     }
-    nd->olo[k][j] = RoundDown(lo);
-    nd->ohi[k][j] = RoundUp(hi);
+  }
+  for (int k = 0; k < 3; ++k) {
+    nd->olo[k][j] = RoundDown(lo[k]);
+    nd->ohi[k][j] = RoundUp(hi[k]);
   }
 }
 
@@ -765,15 +823,17 @@ TriangleBvh::Hit TriangleBvh::Impl::Query(const double* q, double max_sq, int* t
   };
   // A 4-wide node pushes at most 3 entries per level.
   const int need = 3 * max_depth + 4;
-  if (need <= 192) {
-    Entry stack[192];
-    return QueryWith(q, max_sq, stack, tri);
+  Entry small[192];
+  std::vector<Entry> large;
+  Entry* stack = small;
+  if (need > 192) {
+    large.resize(need);
+    stack = large.data();
   }
-  std::vector<Entry> stack(need);
-  return QueryWith(q, max_sq, stack.data(), tri);
+  return oriented ? QueryWith<true>(q, max_sq, stack, tri) : QueryWith<false>(q, max_sq, stack, tri);
 }
 
-template <class Entry>
+template <bool Oriented, class Entry>
 TriangleBvh::Hit TriangleBvh::Impl::QueryWith(const double* q, double max_sq, Entry* stack,
                                                int* tri) const {
   TriangleBvh::Hit hit;
@@ -809,7 +869,7 @@ TriangleBvh::Hit TriangleBvh::Impl::QueryWith(const double* q, double max_sq, En
     }
     const Node4& n = nodes[e.child];
     alignas(16) float lb[4];
-    ChildLowerBounds(n, qf, margin, lb);
+    ChildLowerBounds<Oriented>(n, qf, margin, lb);
     // Children within reach, sorted nearest first (pushed farthest first).
     const double lim = best * kPruneSlack;
     Entry kids[4];
@@ -835,12 +895,16 @@ TriangleBvh::Hit TriangleBvh::Impl::QueryWith(const double* q, double max_sq, En
   return hit;
 }
 
-TriangleBvh::TriangleBvh(const Mesh& mesh) : TriangleBvh(mesh, true) {}
+TriangleBvh::TriangleBvh(const Mesh& mesh) : TriangleBvh(mesh, BuildKind::kSahOriented) {}
 
-TriangleBvh::TriangleBvh(const Mesh& mesh, bool oriented_boxes) : impl_(std::make_unique<Impl>()) {
+TriangleBvh::TriangleBvh(const Mesh& mesh, bool oriented_boxes)
+    : TriangleBvh(mesh, oriented_boxes ? BuildKind::kSahOriented : BuildKind::kMortonAxisAligned) {}
+
+TriangleBvh::TriangleBvh(const Mesh& mesh, BuildKind build) : impl_(std::make_unique<Impl>()) {
   CheckMeshIndices(mesh, "TriangleBvh", /*finite=*/true);
   impl_->mesh = mesh;
-  impl_->oriented = oriented_boxes;
+  impl_->oriented = build != BuildKind::kMortonAxisAligned;
+  impl_->morton = build != BuildKind::kSahOriented;
   impl_->Build();
 }
 TriangleBvh::~TriangleBvh() = default;

@@ -203,6 +203,18 @@ TEST(TriangleBvh, BuiltByOneOrTwoThreadsGivesTheSameAnswers) {
   EXPECT_EQ(d1, d3);
   EXPECT_EQ(p1, p3);
   EXPECT_EQ(f1, f3);
+  // The Morton split with oriented boxes (fitted from summed moments): again
+  // the same answers, at 1 and 2 threads.
+  for (int threads : {1, 2}) {
+    ThreadLimit limit(threads);
+    VectorXd d4;
+    MatrixX3d p4;
+    Eigen::VectorXi f4;
+    TriangleBvh(m, TriangleBvh::BuildKind::kMortonOriented).ClosestPoints(Q, &d4, &p4, &f4);
+    EXPECT_EQ(d1, d4);
+    EXPECT_EQ(p1, p4);
+    EXPECT_EQ(f1, f4);
+  }
 }
 
 TEST(TriangleBvh, FarFromOriginAndTinyScale) {
