@@ -142,12 +142,8 @@ void MakeFeasibleOptions::Check() const {
 }
 
 bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, const MakeFeasibleOptions& o,
-                  Vec3* x, int* steps, const SphereTree::LocalSet* local, bool known_feasible) {
-  auto on_sphere = [&](const Vec3& v) -> Vec3 {
-    const Vec3 d = v - c;
-    const double n = d.norm();
-    return n > 0.0 ? Vec3(c + (r / n) * d) : Vec3(c + r * Vec3::UnitX());
-  };
+                  Vec3* x, int* steps, const SphereTree::LocalSet* local, const KnownContainment* known) {
+  auto on_sphere = [&](const Vec3& v) { return OntoSphere(c, r, v); };
   auto center = [&](int k) {
     const SphereTree::Ball& b = tree.ball(k);
     return Vec3(b.x, b.y, b.z);
@@ -184,14 +180,18 @@ bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, 
   // Most points given are feasible already: the early-exit containment test
   // settles those without gathering (the same answer as gather()'s).
   auto check = [&]() { return !tree.AnyContains(*x, -o.tol, self_id, local) || gather(); };
-  const Vec3 given = *x;
   *x = on_sphere(*x);
-  if (known_feasible && *x == given) {
-    if (steps) *steps = 0;
-    return true;
-  }
   int step = 0;
-  bool feasible = check();
+  bool feasible;
+  if (known && *x == known->at) {
+    if (!known->contained) {
+      if (steps) *steps = 0;
+      return true;
+    }
+    feasible = gather();
+  } else {
+    feasible = check();
+  }
   while (!feasible && step < o.iterations) {
     // Official order: by radius, ascending (ties by id).
     std::sort(found.begin(), found.end(), [&](int a, int b) {

@@ -64,13 +64,27 @@ struct MakeFeasibleOptions {
 // receives the number of steps taken. `local` (optional): a list of the
 // constraint balls near *x (SphereTree::CollectLocal with offset >= tol),
 // used while x stays in its box; the result is the same without it.
-// `known_feasible`: the caller has just found no ball of `constraints` other
-// than self_id containing *x by more than tol (SphereTree::FindContaining
-// with offset -tol); then, if *x is on the sphere to the bit, the test is not
-// repeated (the same answer).
+// `known` (optional): what the caller already knows of the first test, at
+// the point *x becomes on the sphere (OntoSphere): whether a ball of
+// `constraints` other than self_id contains it by more than tol
+// (SphereTree::AnyContains with offset -tol). Used only when that point is
+// known.at to the bit; the answer is then the same without the query.
+struct KnownContainment {
+  Vec3 at = Vec3::Zero();
+  bool contained = false;
+};
 bool MakeFeasible(const SphereTree& constraints, const Vec3& center, double radius, int self_id,
                   const MakeFeasibleOptions& options, Vec3* x, int* steps = nullptr,
-                  const SphereTree::LocalSet* local = nullptr, bool known_feasible = false);
+                  const SphereTree::LocalSet* local = nullptr, const KnownContainment* known = nullptr);
+
+// v moved radially onto the sphere (center, radius); the centre itself goes
+// to center + radius e_x. MakeFeasible's projection (callers that predict its
+// first point use this).
+inline Vec3 OntoSphere(const Vec3& center, double radius, const Vec3& v) {
+  const Vec3 d = v - center;
+  const double n = d.norm();
+  return n > 0.0 ? Vec3(center + (radius / n) * d) : Vec3(center + radius * Vec3::UnitX());
+}
 
 // b distinct indices of [0, n) drawn uniformly without replacement, sorted
 // (n <= b or b == 0: all of [0, n)). The official code draws with

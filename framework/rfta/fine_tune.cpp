@@ -295,6 +295,20 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
     }
   };
 
+  // All spheres in one tree: the final check's, and the containment cache's.
+  // A point that stays where it is from one iteration to the next (a tangent
+  // sphere keeps its points) is tested against each new batch; the list of
+  // all balls containing it by more than tol, collected once, answers every
+  // batch by lookup (a batch is a subset of all spheres). Per sphere: its
+  // points with such a list, each exactly where MakeFeasible tests it.
+  const SphereTree full(all.centers, all.radii, ids);
+  struct Known {
+    Vec3 at;
+    std::vector<int> inside;  // spheres containing `at` by more than tol
+  };
+  std::vector<std::vector<Known>> known(ns);
+  std::vector<char> in_batch(ns, 0);
+
   FineTuneResult result;
   Rng rng = ctx.MakeRng("fine_tune.batch");
   for (int it = 0; it < options.iterations; ++it) {
@@ -336,6 +350,8 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
     t0 = Clock::now();
     const std::vector<int> batch = DrawBatch(ns, options.batch_size, rng);
     const SphereTree tree(all.centers, all.radii, ids, &batch);
+    std::fill(in_batch.begin(), in_batch.end(), 0);
+    for (int b : batch) in_batch[b] = 1;
 
     // 4. Per sphere: move, add, second chance, make feasible.
     std::vector<std::vector<Vec3>> next(ns);
@@ -366,10 +382,11 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         struct Candidate {
           Vec3 x;
           bool tested;
+          bool kept = false;  // a point of the last iteration, unmoved
         };
         std::vector<Candidate> cand;
         auto keep_all = [&]() {
-          for (const Vec3& a : mine) cand.push_back({a, false});
+          for (const Vec3& a : mine) cand.push_back({a, false, true});
         };
         auto closest_to = [&](const Vec3& target) {
           size_t best = 0;
@@ -431,7 +448,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           if (!mine.empty()) {
             if (options.keep_points_when_missed)
               for (size_t k = 0; k < mine.size(); ++k)
-                if (k != k0) cand.push_back({mine[k], false});
+                if (k != k0) cand.push_back({mine[k], false, true});
           }
         } else {  // tangent: keep
           kind[g] = 3;
@@ -442,14 +459,38 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           }
         }
         // Algorithm 2 against the batch of both signs; infeasible ones go.
+        // A kept point's first test is answered from its containment list.
         std::vector<Vec3>& out = next[g];
+        std::vector<Known> known_next;
         for (const Candidate& cd : cand) {
           Vec3 x = cd.x;
-          if (MakeFeasible(tree, c, r, g, mf, &x, nullptr, local, cd.tested))
+          KnownContainment kc;
+          const KnownContainment* kp = nullptr;
+          Known* entry = nullptr;
+          if (cd.tested) {
+            kc = {cd.x, false};
+            kp = &kc;
+          } else if (cd.kept) {
+            const Vec3 at = OntoSphere(c, r, cd.x);
+            for (Known& e : known[g])
+              if (e.at == at) entry = &e;
+            if (!entry) {
+              known[g].push_back({at, {}});
+              entry = &known[g].back();
+              full.CollectContaining(at, -options.search.tol, g, &entry->inside);
+            }
+            kc.at = at;
+            for (int s : entry->inside) kc.contained = kc.contained || in_batch[s];
+            kp = &kc;
+          }
+          if (MakeFeasible(tree, c, r, g, mf, &x, nullptr, local, kp)) {
             out.push_back(x);
-          else
+            if (entry && x == entry->at) known_next.push_back(*entry);
+          } else {
             ++dropped[g];
+          }
         }
+        known[g].swap(known_next);
         if (out.empty()) second[g] = 0;
       }
     }, 64);
@@ -474,7 +515,6 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
   {
     ctx.CheckStop();
     const auto t0 = Clock::now();
-    const SphereTree full(all.centers, all.radii, ids);
     const FineTuneOptions::FinalCheck mode = options.final_check;
     const double tol = options.search.tol;
     std::vector<int> before(ns, 0), repaired(ns, 0), removed(ns, 0), after(ns, 0);
@@ -486,10 +526,16 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         const Vec3 c = all.centers.row(g).transpose();
         const double r = all.radii[g];
         const SphereTree::LocalSet* local = LocalFor(full, c, r, local_radius, tol, &local_set);
+        // A point with a containment list (all spheres) needs no query.
+        auto contained = [&](const Vec3& x) {
+          for (const Known& e : known[g])
+            if (e.at == x) return !e.inside.empty();
+          return full.AnyContains(x, -tol, g, local);
+        };
         std::vector<Vec3> keep;
         keep.reserve(pts[g].size());
         for (Vec3 x : pts[g]) {
-          if (!full.AnyContains(x, -tol, g, local)) {
+          if (!contained(x)) {
             keep.push_back(x);
             continue;
           }
@@ -506,7 +552,7 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
         }
         pts[g].swap(keep);
         // The recount: what the result still violates.
-        for (const Vec3& x : pts[g]) after[g] += full.AnyContains(x, -tol, g, local);
+        for (const Vec3& x : pts[g]) after[g] += contained(x);
       }
     }, 64);
     for (int g = 0; g < ns; ++g) {

@@ -239,6 +239,40 @@ int SphereTree::FindContaining(const Vec3& x, double offset, int ignore_id, cons
     return -1;
   }
   if (nodes_.empty()) return -1;
+  // Each child's bound is computed once, by its parent: children it rules
+  // out are not pushed, and the one with the lower bound (the likelier to
+  // hold a containing ball) is popped first.
+  auto bound = [&](std::int32_t i) {
+    const Node& n = nodes_[i];
+    return n.rmax + offset > 0.0 ? LowerBound(n, x, 1.0) : offset;
+  };
+  std::int32_t stack[kStack];
+  int sp = 0;
+  if (bound(0) < offset) stack[sp++] = 0;
+  while (sp > 0) {
+    const Node& n = nodes_[stack[--sp]];
+    if (n.count > 0) {
+      for (std::int32_t k = n.begin; k < n.begin + n.count; ++k) {
+        if (Contains(k, x, offset, ignore_id)) return k;
+      }
+      continue;
+    }
+    const std::int32_t l = static_cast<std::int32_t>(&n - nodes_.data()) + 1, r = n.right;
+    const double bl = bound(l), br = bound(r);
+    if (bl < offset && br < offset) {
+      stack[sp++] = bl <= br ? r : l;
+      stack[sp++] = bl <= br ? l : r;
+    } else if (bl < offset) {
+      stack[sp++] = l;
+    } else if (br < offset) {
+      stack[sp++] = r;
+    }
+  }
+  return -1;
+}
+
+void SphereTree::CollectContaining(const Vec3& x, double offset, int ignore_id, std::vector<int>* ids) const {
+  if (nodes_.empty()) return;
   std::int32_t stack[kStack];
   int sp = 0;
   stack[sp++] = 0;
@@ -246,22 +280,13 @@ int SphereTree::FindContaining(const Vec3& x, double offset, int ignore_id, cons
     const Node& n = nodes_[stack[--sp]];
     if (n.rmax + offset <= 0.0 || LowerBound(n, x, 1.0) >= offset) continue;
     if (n.count > 0) {
-      for (std::int32_t k = n.begin; k < n.begin + n.count; ++k) {
-        if (Contains(k, x, offset, ignore_id)) return k;
-      }
+      for (std::int32_t k = n.begin; k < n.begin + n.count; ++k)
+        if (Contains(k, x, offset, ignore_id)) ids->push_back(ids_[k]);
       continue;
     }
-    // Nearer child last (popped first): finds a containing ball sooner.
-    const std::int32_t l = static_cast<std::int32_t>(&n - nodes_.data()) + 1, r = n.right;
-    if (BoxDist2(nodes_[l], x) <= BoxDist2(nodes_[r], x)) {
-      stack[sp++] = r;
-      stack[sp++] = l;
-    } else {
-      stack[sp++] = l;
-      stack[sp++] = r;
-    }
+    stack[sp++] = n.right;
+    stack[sp++] = static_cast<std::int32_t>(&n - nodes_.data()) + 1;
   }
-  return -1;
 }
 
 void SphereTree::DeepestContaining(const Vec3& x, double offset, int k, int ignore_id, std::vector<int>* out,

@@ -65,6 +65,11 @@ class SphereTree {
   // The same test, answering with the tree index of a ball that contains x
   // (the first one met), or -1.
   int FindContaining(const Vec3& x, double offset, int ignore_id, const LocalSet* local = nullptr) const;
+  // Every ball that FindContaining could name: the ids of all balls other
+  // than `ignore_id` with |x - c| < r + offset, appended to *ids in tree
+  // order. Whether a subset of the balls contains x is then a lookup (the
+  // fine-tuner's batches are subsets of all spheres).
+  void CollectContaining(const Vec3& x, double offset, int ignore_id, std::vector<int>* ids) const;
   // Does ball k (a tree index) other than `ignore_id` contain x, with the
   // offset? The leaf test of AnyContains, for callers that remember a ball.
   bool Contains(int k, const Vec3& x, double offset, int ignore_id) const {

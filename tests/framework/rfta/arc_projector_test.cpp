@@ -257,6 +257,24 @@ TEST(MakeFeasible, TwoAndThreeSphereConfigurations) {
   EXPECT_NEAR((x - c).norm(), 0.15, 1e-12);
   EXPECT_FALSE(tree.AnyContains(x, -o.tol, 0));
   for (int j = 1; j < 4; ++j) EXPECT_GE((x - Vec3(C.row(j).transpose())).norm(), R[j] - o.tol);
+  // What the caller knows of the first test, at the projected start point,
+  // gives the same result as the query; a stale `at` (another point) is
+  // ignored.
+  for (const Vec3& start : {Vec3(c + 0.15 * Vec3(1, 1, 0).normalized()), Vec3(c + Vec3(-0.15, 0, 0)),
+                            Vec3(c + 0.2 * Vec3(1, 1, 0.1).normalized())}) {
+    Vec3 plain = start;
+    int plain_steps = 0;
+    const bool plain_ok = MakeFeasible(tree, c, 0.15, 0, o, &plain, &plain_steps);
+    const Vec3 at = OntoSphere(c, 0.15, start);
+    for (const KnownContainment& kc : {KnownContainment{at, tree.AnyContains(at, -o.tol, 0)},
+                                       KnownContainment{Vec3(at + Vec3(1e-9, 0, 0)), false}}) {
+      Vec3 hinted = start;
+      int hinted_steps = 0;
+      EXPECT_EQ(MakeFeasible(tree, c, 0.15, 0, o, &hinted, &hinted_steps, nullptr, &kc), plain_ok);
+      EXPECT_EQ(hinted, plain);
+      EXPECT_EQ(hinted_steps, plain_steps);
+    }
+  }
   // Completely swallowed: sphere 0 inside a big sphere -> infeasible.
   MatrixX3d C2 = C;
   VectorXd R2 = R;

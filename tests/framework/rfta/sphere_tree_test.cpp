@@ -56,6 +56,20 @@ TEST(SphereTree, PointQueriesMatchBruteForce) {
     for (int i = 0; i < 3000; ++i)
       any = any || (b.ids[i] != ignore && Dist(b, i, x) < b.R[i] - tol);
     EXPECT_EQ(tree.AnyContains(x, -tol, ignore), any);
+    // CollectContaining: every containing ball's id, each once; a subset of
+    // the balls (every third id) contains x exactly when the list holds one.
+    std::vector<int> inside, expect;
+    for (int i = 0; i < 3000; ++i)
+      if (b.ids[i] != ignore && Dist(b, i, x) < b.R[i] - tol) expect.push_back(b.ids[i]);
+    tree.CollectContaining(x, -tol, ignore, &inside);
+    std::sort(inside.begin(), inside.end());
+    EXPECT_EQ(inside, expect);
+    std::vector<int> third;
+    for (int i = 0; i < 3000; i += 3) third.push_back(i);
+    const SphereTree subset(b.C, b.R, b.ids, &third);
+    bool in_subset = false;
+    for (int id : inside) in_subset = in_subset || (id - 1000) % 3 == 0;
+    EXPECT_EQ(subset.AnyContains(x, -tol, ignore), in_subset);
     // FindContaining names a ball that contains x (by the same test), or -1.
     const int k = tree.FindContaining(x, -tol, ignore);
     EXPECT_EQ(k >= 0, any);
