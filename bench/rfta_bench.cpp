@@ -5,6 +5,8 @@
 //   the official time ~1.8x; Chamfer 0.00390)
 //   torus n=40 default preset (official 833 s, Chamfer 0.00176)
 //   bunny_fixed n=20 paper preset (official 227 s, Chamfer 0.0219)
+//   armadillo n=40 paper preset (no official run; issue 10's n = 40 target is
+//   a median of 30 s over the bench set, where armadillo sits near the median)
 // "default" = gpytoolbox defaults (fine_tune_iters 3, max_points_per_sphere 3);
 // "paper" = the paper's many-shapes runs (20 iterations, 30 points per sphere).
 // Prints the wall time of each stage, the total, the paper's Chamfer (10^6
@@ -18,7 +20,7 @@
 // fine_solver and gs_iters). RFTA_BENCH_TUNING_CELL=F: rfta's tuning_cell (the
 // tuning surfaces no finer than F x the samples' spacing; default 0 = off).
 //
-//   rfta_bench [all | torus20 | torus40 | bunny20]
+//   rfta_bench [all | torus20 | torus40 | bunny20 | armadillo40]
 //   rfta_bench scaling [SHAPE] [NMAX]
 //   rfta_bench figure14 [NMAX]
 // "figure14" is the paper's runtime figure itself (bunny_fixed, k_max 10,
@@ -207,9 +209,15 @@ void Run(const BenchCase& bc, const Registry& registry) {
   const Outcome o = RunRfta(registry, samples, bc.iterations, bc.points_per_sphere, ctx);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double chamfer = ChamferPaper(o.mesh, mesh, 1000000, 1);
-  std::printf("%-10s %6.2f %8.2f %8.2f %9.2f %8.2f %8.2f | %8.2f %9.0f %7.1fx | %9.5f %9.5f %8d\n", bc.name.c_str(),
-              sdf_s, o.sampler_s, o.projector_s, o.fine_tune_s, o.psr_s, o.final_s, total, bc.official_wall_s,
-              bc.official_wall_s / total, chamfer, bc.official_chamfer, o.mesh.NumVertices());
+  if (std::isnan(bc.official_wall_s)) {
+    std::printf("%-10s %6.2f %8.2f %8.2f %9.2f %8.2f %8.2f | %8.2f %9s %8s | %9.5f %9s %8d\n", bc.name.c_str(), sdf_s,
+                o.sampler_s, o.projector_s, o.fine_tune_s, o.psr_s, o.final_s, total, "-", "-", chamfer, "-",
+                o.mesh.NumVertices());
+  } else {
+    std::printf("%-10s %6.2f %8.2f %8.2f %9.2f %8.2f %8.2f | %8.2f %9.0f %7.1fx | %9.5f %9.5f %8d\n", bc.name.c_str(),
+                sdf_s, o.sampler_s, o.projector_s, o.fine_tune_s, o.psr_s, o.final_s, total, bc.official_wall_s,
+                bc.official_wall_s / total, chamfer, bc.official_chamfer, o.mesh.NumVertices());
+  }
   if (!ViaRegistry())
     std::printf("%-10s fine-tuning: solves %.2f s, queries %.2f s, updates %.2f s; %lld points at the end\n", "",
                 o.psr_s, o.query_s, o.update_s, static_cast<long long>(o.points));
@@ -318,6 +326,7 @@ int main(int argc, char** argv) {
       {"torus20", "torus", 20, 3, 3, 40.4, 0.00390},  // default_quiet (unloaded); 72 s was under load
       {"torus40", "torus", 40, 3, 3, 833, 0.00176},
       {"bunny20", "bunny_fixed", 20, 20, 30, 227, 0.0219},
+      {"armadillo40", "armadillo", 40, 20, 30, NAN, NAN},  // no official run
   };
   std::printf("RFTA vs the official implementation (its wall times measured on this machine class); %d threads\n",
               MaxThreads());
