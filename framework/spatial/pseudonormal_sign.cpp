@@ -28,10 +28,11 @@ PseudonormalSign::PseudonormalSign(const Mesh& mesh) : mesh_(&mesh) {
       if (len > 0 && std::isfinite(len)) face_n_[f] = n / len;
     }
   }, 4096);
-  // Outgoing half-edges per vertex (CSR): half-edge 3f + k goes from corner k
-  // to corner k + 1 of face f. Each face meets a vertex in exactly one
-  // outgoing half-edge, so a vertex's list is also its faces.
-  std::vector<int> start(nv + 1, 0), out(static_cast<std::size_t>(nf) * 3);
+  // Outgoing half-edges per vertex (the CSR lists start_ / out_).
+  start_.assign(nv + 1, 0);
+  out_.resize(static_cast<std::size_t>(nf) * 3);
+  std::vector<int>& start = start_;
+  std::vector<int>& out = out_;
   for (int f = 0; f < nf; ++f)
     for (int k = 0; k < 3; ++k) ++start[mesh.F(f, k) + 1];
   for (int v = 0; v < nv; ++v) start[v + 1] += start[v];
@@ -49,8 +50,7 @@ PseudonormalSign::PseudonormalSign(const Mesh& mesh) : mesh_(&mesh) {
     for (std::int64_t j = b; j < e; ++j) out_to[j] = to(out[j]);
   }, 8192);
   // The twin of a -> b is the one b -> a; closed: exactly one, and no second a -> b.
-  edge_n_.assign(static_cast<std::size_t>(nf) * 3, Vec3::Zero());
-  std::vector<int> twin_of(static_cast<std::size_t>(nf) * 3, -1);
+  twin_of_.assign(static_cast<std::size_t>(nf) * 3, -1);
   std::atomic<bool> closed{nf > 0};
   ParallelFor(static_cast<std::int64_t>(nf) * 3, [&](std::int64_t b, std::int64_t e) {
     bool ok = true;
@@ -64,42 +64,39 @@ PseudonormalSign::PseudonormalSign(const Mesh& mesh) : mesh_(&mesh) {
         ok = false;
         continue;
       }
-      edge_n_[h] = face_n_[h / 3] + face_n_[twin / 3];
-      twin_of[h] = twin;
+      twin_of_[h] = twin;
     }
     if (!ok) closed = false;
   }, 4096);
   closed_ = closed;
-  vertex_n_.assign(nv, Vec3::Zero());
-  ParallelFor(nv, [&](std::int64_t b, std::int64_t e) {
-    for (std::int64_t v = b; v < e; ++v) {
-      // A manifold vertex: its faces form one fan (walking from face to face
-      // across the edges at v returns after all of them). Two fans meeting
-      // at v have no pseudonormal: it stays zero and Side answers 0.
-      if (closed_ && start[v + 1] > start[v]) {
-        const int first = out[start[v]];
-        int h = first, steps = 0;
-        do {
-          const int prev = 3 * (h / 3) + (h % 3 + 2) % 3;  // the half-edge into v in h's face
-          h = twin_of[prev];                              // out of v in the next face
-          ++steps;
-        } while (h != first && h >= 0 && steps <= start[v + 1] - start[v]);
-        if (h != first || steps != start[v + 1] - start[v]) continue;
-      }
-      Vec3 s = Vec3::Zero();
-      for (int j = start[v]; j < start[v + 1]; ++j) {
-        const int h = out[j], f = h / 3, k = h % 3;
-        const Vec3 p = mesh.V.row(mesh.F(f, k)), q = mesh.V.row(mesh.F(f, (k + 1) % 3)),
-                   r = mesh.V.row(mesh.F(f, (k + 2) % 3));
-        const Vec3 u = q - p, w = r - p;
-        const double nu = u.norm(), nw = w.norm();
-        if (nu == 0 || nw == 0) continue;
-        const double angle = std::acos(std::clamp(u.dot(w) / (nu * nw), -1.0, 1.0));
-        s += angle * face_n_[f];
-      }
-      vertex_n_[v] = s;
-    }
-  }, 4096);
+}
+
+Vec3 PseudonormalSign::VertexNormal(int v) const {
+  const Mesh& mesh = *mesh_;
+  // A manifold vertex: its faces form one fan (walking from face to face
+  // across the edges at v returns after all of them).
+  if (start_[v + 1] > start_[v]) {
+    const int first = out_[start_[v]];
+    int h = first, steps = 0;
+    do {
+      const int prev = 3 * (h / 3) + (h % 3 + 2) % 3;  // the half-edge into v in h's face
+      h = twin_of_[prev];                              // out of v in the next face
+      ++steps;
+    } while (h != first && h >= 0 && steps <= start_[v + 1] - start_[v]);
+    if (h != first || steps != start_[v + 1] - start_[v]) return Vec3::Zero();
+  }
+  Vec3 s = Vec3::Zero();
+  for (int j = start_[v]; j < start_[v + 1]; ++j) {
+    const int h = out_[j], f = h / 3, k = h % 3;
+    const Vec3 p = mesh.V.row(mesh.F(f, k)), q = mesh.V.row(mesh.F(f, (k + 1) % 3)),
+               r = mesh.V.row(mesh.F(f, (k + 2) % 3));
+    const Vec3 u = q - p, w = r - p;
+    const double nu = u.norm(), nw = w.norm();
+    if (nu == 0 || nw == 0) continue;
+    const double angle = std::acos(std::clamp(u.dot(w) / (nu * nw), -1.0, 1.0));
+    s += angle * face_n_[f];
+  }
+  return s;
 }
 
 int PseudonormalSign::Side(const Vec3& q, const Vec3& p, int face) const {
@@ -123,10 +120,11 @@ int PseudonormalSign::Side(const Vec3& q, const Vec3& p, int face) const {
     } else if (nz == 1) {
       // On the edge opposite corner k: from corner k + 1 to corner k + 2.
       const int k = zero[0] ? 0 : zero[1] ? 1 : 2;
-      pn = edge_n_[3 * static_cast<std::size_t>(face) + (k + 1) % 3];
+      const int h = 3 * face + (k + 1) % 3;
+      pn = face_n_[face] + face_n_[twin_of_[h] / 3];
     } else {
       const int k = !zero[0] ? 0 : !zero[1] ? 1 : 2;
-      pn = vertex_n_[m.F(face, k)];
+      pn = VertexNormal(m.F(face, k));
     }
   } else {
     return 0;  // a degenerate face: no reliable feature

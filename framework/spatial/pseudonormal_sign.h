@@ -18,7 +18,10 @@ namespace arcs {
 
 class PseudonormalSign {
  public:
-  // Face, edge and vertex pseudonormals (parallel, deterministic). Throws
+  // Face normals and the edge adjacency (parallel, deterministic); the edge
+  // and vertex pseudonormals are formed when a query lands on that feature
+  // (RFTA asks one query per sphere centre of a surface with several times
+  // as many vertices, and most closest points lie inside a face). Throws
   // InputError on a face index outside [0, #V).
   explicit PseudonormalSign(const Mesh& mesh);
   // Every edge has exactly two faces that traverse it in opposite
@@ -31,11 +34,18 @@ class PseudonormalSign {
   int Side(const Vec3& q, const Vec3& p, int face) const;
 
  private:
+  // The angle-weighted pseudonormal of vertex v; zero where v's faces do
+  // not form one fan (two fans meeting at v have none).
+  Vec3 VertexNormal(int v) const;
+
   const Mesh* mesh_;
   bool closed_ = false;
-  std::vector<Vec3> face_n_;               // unit face normals (zero if degenerate)
-  std::vector<Vec3> edge_n_;               // per face and local edge k (corners k, k+1): n_f + n_twin
-  std::vector<Vec3> vertex_n_;             // angle-weighted
+  std::vector<Vec3> face_n_;   // unit face normals (zero if degenerate)
+  // Outgoing half-edges per vertex (CSR): half-edge 3f + k goes from corner
+  // k to corner k + 1 of face f. Each face meets a vertex in exactly one
+  // outgoing half-edge, so a vertex's list is also its faces.
+  std::vector<int> start_, out_;
+  std::vector<int> twin_of_;   // per half-edge, its twin (closed meshes only)
 };
 
 }  // namespace arcs

@@ -334,8 +334,9 @@ inline std::uint64_t Spread3(std::uint64_t v) {
 // centroid (ties by face), each range split where its codes' highest
 // differing bit changes (the middle when all codes are equal), down to leaves
 // of at most kMaxLeaf; boxes bottom-up. O(F log F) in a sort, instead of the
-// SAH build's binning passes at every level. Same layout as the SAH build
-// (children allocated as a pair, inner first = right child), and the answers
+// SAH build's binning passes at every level. The layout is the one the SAH
+// build has after its re-layout (depth-first, left child = parent + 1,
+// inner first = right child), and the answers
 // are the same (exact, ties to the lowest face index), only the traversal
 // differs.
 void MortonTopology(std::vector<BuildItem>& items, std::vector<Node>& bin) {
@@ -370,20 +371,25 @@ void MortonTopology(std::vector<BuildItem>& items, std::vector<Node>& bin) {
     }, 8192);
     items.swap(sorted);
   }
+  // Emitted depth-first (left child = parent + 1, `first` = the right
+  // child, patched when the right child is emitted), the layout Build's
+  // re-layout gives the SAH tree.
   struct Task {
-    int node, begin, end;
+    int parent, begin, end;  // parent: the node whose right child this is, or -1
   };
   bin.clear();
   bin.reserve(std::max(1, 2 * (nf / kMaxLeaf + 1)));
-  bin.emplace_back();
-  std::vector<Task> stack{{0, 0, nf}};
+  std::vector<Task> stack{{-1, 0, nf}};
   while (!stack.empty()) {
     const Task t = stack.back();
     stack.pop_back();
+    const int node = static_cast<int>(bin.size());
+    bin.emplace_back();
+    if (t.parent >= 0) bin[t.parent].first = node;
     const int n = t.end - t.begin;
     if (n <= kMaxLeaf) {
-      bin[t.node].first = t.begin;
-      bin[t.node].count = n;
+      bin[node].first = t.begin;
+      bin[node].count = n;
       continue;
     }
     const std::uint64_t a = code[t.begin].first, b = code[t.end - 1].first;
@@ -394,13 +400,9 @@ void MortonTopology(std::vector<BuildItem>& items, std::vector<Node>& bin) {
                                                   [&](const auto& c) { return ((c.first >> bit) & 1) == 0; }) -
                              code.begin());
     }
-    const int left = static_cast<int>(bin.size());
-    bin.emplace_back();
-    bin.emplace_back();
-    bin[t.node].count = 0;
-    bin[t.node].first = left + 1;
-    stack.push_back({left + 1, mid, t.end});
-    stack.push_back({left, t.begin, mid});
+    bin[node].count = 0;
+    stack.push_back({node, mid, t.end});
+    stack.push_back({-1, t.begin, mid});
   }
   // Boxes bottom-up: children have larger indices than their parent.
   for (int i = static_cast<int>(bin.size()) - 1; i >= 0; --i) {
@@ -409,7 +411,7 @@ void MortonTopology(std::vector<BuildItem>& items, std::vector<Node>& bin) {
     if (nd.count > 0) {
       for (int k = nd.first; k < nd.first + nd.count; ++k) box.Grow(items[k].lo, items[k].hi);
     } else {
-      box.Grow(bin[nd.first - 1].lo, bin[nd.first - 1].hi);
+      box.Grow(bin[i + 1].lo, bin[i + 1].hi);  // left child
       box.Grow(bin[nd.first].lo, bin[nd.first].hi);
     }
     for (int k = 0; k < 3; ++k) nd.lo[k] = box.lo[k], nd.hi[k] = box.hi[k];
@@ -577,8 +579,9 @@ void TriangleBvh::Impl::Build() {
       bin[deferred[k].node] = root;
     }
   }
-  // Depth-first re-layout of the binary tree (left child = parent + 1).
-  {
+  // Depth-first re-layout of the binary tree (left child = parent + 1); the
+  // Morton build emits that layout itself.
+  if (!morton) {
     std::vector<Node> out;
     out.reserve(bin.size());
     std::vector<std::pair<int, int>> st;  // (old index, new index of parent to patch or -1)
@@ -656,6 +659,7 @@ void TriangleBvh::Impl::Build() {
     int node4, slot, begin, end, bnode;
   };
   std::vector<Fit> fits;
+  fits.reserve(nb);
   nodes.reserve(nb / 2 + 1);
   nodes.emplace_back();
   std::vector<Pending> todo{{0, 0, 1}};
@@ -663,15 +667,17 @@ void TriangleBvh::Impl::Build() {
   while (!todo.empty()) {
     const Pending pd = todo.back();
     todo.pop_back();
-    std::vector<int> kids;
+    int kids[4];
+    int nk = 0;
     if (bin[pd.bnode].count > 0) {
-      kids.push_back(pd.bnode);  // the whole tree is one leaf
+      kids[nk++] = pd.bnode;  // the whole tree is one leaf
     } else {
-      kids = {pd.bnode + 1, bin[pd.bnode].first};
-      while (kids.size() < 4) {
+      kids[nk++] = pd.bnode + 1;
+      kids[nk++] = bin[pd.bnode].first;
+      while (nk < 4) {
         int best = -1;
         double best_area = -1.0;
-        for (int k = 0; k < static_cast<int>(kids.size()); ++k) {
+        for (int k = 0; k < nk; ++k) {
           if (bin[kids[k]].count == 0 && half_area(kids[k]) > best_area) {
             best = k;
             best_area = half_area(kids[k]);
@@ -679,8 +685,10 @@ void TriangleBvh::Impl::Build() {
         }
         if (best < 0) break;
         const int c = kids[best];
+        for (int k = nk; k > best + 1; --k) kids[k] = kids[k - 1];
         kids[best] = c + 1;
-        kids.insert(kids.begin() + best + 1, bin[c].first);
+        kids[best + 1] = bin[c].first;
+        ++nk;
       }
     }
     Node4 fill;
@@ -693,7 +701,7 @@ void TriangleBvh::Impl::Build() {
       fill.child[j] = -1;
       fill.count[j] = -1;
     }
-    for (int j = 0; j < static_cast<int>(kids.size()); ++j) {
+    for (int j = 0; j < nk; ++j) {
       const Node& c = bin[kids[j]];
       for (int k = 0; k < 3; ++k) {
         fill.lo[k][j] = RoundDown(c.lo[k] - origin[k]);
