@@ -63,14 +63,30 @@ int SphereSpherePoints(const Vec3& ci, double ri, const Vec3& cj, double rj, con
 
 // The (up to two) common points of three spheres, by trilateration in the
 // frame of the three centres (Fang 1986). 0 when the centres are (nearly)
-// collinear or the spheres have no common point.
-int Trilaterate(const Vec3& p1, double r1, const Vec3& p2, double r2, const Vec3& p3, double r3,
-                Vec3 out[2]) {
+// collinear or the spheres have no common point. In two parts: what depends
+// on the first two spheres only (Alg. 2 pairs one ball with many others
+// around the same sphere), then the third; the arithmetic is the one-call
+// form's, operation for operation.
+struct TrilaterationBase {
+  Vec3 ex;       // unit p1 -> p2 (when d > 0)
+  double d;      // |p2 - p1|
+  double x = 0;  // the common points' coordinate along ex (when d > 0)
+};
+inline TrilaterationBase TrilaterateBase(const Vec3& p1, double r1, const Vec3& p2, double r2) {
+  TrilaterationBase b;
+  b.ex = p2 - p1;
+  b.d = b.ex.norm();
+  if (b.d > 0.0) {  // else TrilaterateWith answers 0 before reading ex or x
+    b.ex /= b.d;
+    b.x = (r1 * r1 - r2 * r2 + b.d * b.d) / (2.0 * b.d);
+  }
+  return b;
+}
+inline int TrilaterateWith(const TrilaterationBase& b, const Vec3& p1, double r1, double r2, const Vec3& p3,
+                           double r3, Vec3 out[2]) {
   const double scale = std::max({r1, r2, r3});
-  Vec3 ex = p2 - p1;
-  const double d = ex.norm();
-  if (!(d > 1e-12 * scale)) return 0;
-  ex /= d;
+  if (!(b.d > 1e-12 * scale)) return 0;
+  const Vec3& ex = b.ex;
   const Vec3 t = p3 - p1;
   const double i = ex.dot(t);
   Vec3 ey = t - i * ex;
@@ -78,7 +94,7 @@ int Trilaterate(const Vec3& p1, double r1, const Vec3& p2, double r2, const Vec3
   if (!(j > 1e-12 * scale)) return 0;
   ey /= j;
   const Vec3 ez = ex.cross(ey);
-  const double x = (r1 * r1 - r2 * r2 + d * d) / (2.0 * d);
+  const double x = b.x;
   const double y = (r1 * r1 - r3 * r3 + i * i + j * j) / (2.0 * j) - (i / j) * x;
   double z2 = r1 * r1 - x * x - y * y;
   if (z2 < 0.0) {
@@ -90,6 +106,23 @@ int Trilaterate(const Vec3& p1, double r1, const Vec3& p2, double r2, const Vec3
   out[0] = base + z * ez;
   out[1] = base - z * ez;
   return 2;
+}
+int Trilaterate(const Vec3& p1, double r1, const Vec3& p2, double r2, const Vec3& p3, double r3,
+                Vec3 out[2]) {
+  return TrilaterateWith(TrilaterateBase(p1, r1, p2, r2), p1, r1, r2, p3, r3, out);
+}
+
+// Whether |v| < R, decided as (v.norm() < R) decides it: norm() is the
+// correctly rounded square root of squaredNorm(), so away from R^2 the
+// squares give the same answer without the root (relative margin 1e-12,
+// far above the few roundings of R^2; tiny R^2 takes the root).
+inline bool NormBelow(const Vec3& v, double R) {
+  const double d2 = v.squaredNorm(), R2 = R * R;
+  if (R > 0.0 && R2 > 1e-280 && R2 < 1e280) {
+    if (d2 > R2 * (1.0 + 1e-12)) return false;
+    if (d2 < R2 * (1.0 - 1e-12)) return true;
+  }
+  return std::sqrt(d2) < R;
 }
 
 // Points per chunk sharing one local constraint list, and the chunk box's
@@ -164,7 +197,7 @@ bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, 
     }
     for (int k : found) {
       if (k == skip1 || k == skip2) continue;
-      if ((v - center(k)).norm() < tree.ball(k).r - o.tol) return false;
+      if (NormBelow(v - center(k), tree.ball(k).r - o.tol)) return false;
     }
     return true;
   };
@@ -235,23 +268,36 @@ bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, 
       }
       std::sort(near.begin(), near.end());
       double best_d = std::numeric_limits<double>::infinity();
+      double best_d2 = best_d;  // the square best_d is the root of
       auto offer = [&](const Vec3& v, int skip1, int skip2) {
-        const double d = (v - *x).norm();
+        // norm() is the rounded root of the squared norm, and rounding is
+        // monotone: no square at or above best_d2 has a root below best_d.
+        const double d2 = (v - *x).squaredNorm();
+        if (!(d2 < best_d2)) return;
+        const double d = std::sqrt(d2);
         if (d < best_d && admissible(v, skip1, skip2, true)) {
           best_d = d;
+          best_d2 = d2;
           best = v;
           have = true;
         }
       };
+      // Each ball's trilateration frame with the sphere, made once (the
+      // balls visited so far, in `near` order).
+      thread_local std::vector<TrilaterationBase> base;
+      base.clear();
       for (std::size_t bi = 0; bi < near.size(); ++bi) {
         if (near[bi].first >= best_d) break;
         const int kb = found[near[bi].second];
         offer(q[near[bi].second], kb, -1);
+        const Vec3 cb = center(kb);
+        const double rb = tree.ball(kb).r;
         for (std::size_t ai = 0; ai < bi; ++ai) {
           const int ka = found[near[ai].second];
-          const int n = Trilaterate(c, r, center(ka), tree.ball(ka).r, center(kb), tree.ball(kb).r, pts);
+          const int n = TrilaterateWith(base[ai], c, r, tree.ball(ka).r, cb, rb, pts);
           for (int t = 0; t < n; ++t) offer(pts[t], ka, kb);
         }
+        base.push_back(TrilaterateBase(c, r, cb, rb));
       }
     } else {
       for (int a = 0; a < m && !have; ++a)

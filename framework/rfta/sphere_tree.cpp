@@ -174,8 +174,9 @@ inline double BallDist2(const SphereTree::Ball& b, const Vec3& x) {
 
 }  // namespace
 
-double SphereTree::LowerBound(const Node& n, const Vec3& x, double scale) const {
+double SphereTree::LowerBound(const Node& n, const Vec3& x, double scale, double cut) const {
   const double box = std::sqrt(BoxDist2(n, x)) - scale * n.rmax;
+  if (box >= cut) return box;  // the larger bound is >= cut as well
   // |x - c| - s r >= |x - c| - s (alpha + beta . c) = |v| - s beta . v - s beta . x - s alpha
   // with v = c - x, and |v| >= u . v for the unit u toward the box centre:
   // >= min over the box of (u - s beta) . v  - s (beta . x + alpha).
@@ -244,7 +245,7 @@ int SphereTree::FindContaining(const Vec3& x, double offset, int ignore_id, cons
   // hold a containing ball) is popped first.
   auto bound = [&](std::int32_t i) {
     const Node& n = nodes_[i];
-    return n.rmax + offset > 0.0 ? LowerBound(n, x, 1.0) : offset;
+    return n.rmax + offset > 0.0 ? LowerBound(n, x, 1.0, offset) : offset;
   };
   std::int32_t stack[kStack];
   int sp = 0;
@@ -278,7 +279,7 @@ void SphereTree::CollectContaining(const Vec3& x, double offset, int ignore_id, 
   stack[sp++] = 0;
   while (sp > 0) {
     const Node& n = nodes_[stack[--sp]];
-    if (n.rmax + offset <= 0.0 || LowerBound(n, x, 1.0) >= offset) continue;
+    if (n.rmax + offset <= 0.0 || LowerBound(n, x, 1.0, offset) >= offset) continue;
     if (n.count > 0) {
       for (std::int32_t k = n.begin; k < n.begin + n.count; ++k)
         if (Contains(k, x, offset, ignore_id)) ids->push_back(ids_[k]);

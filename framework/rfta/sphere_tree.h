@@ -122,8 +122,12 @@ class SphereTree {
              std::int32_t node_index, const MatrixX3d& centers, const VectorXd& radii);
   static std::int32_t NodeCount(std::int32_t n);
 
-  // Lower bound of |x - c| - scale * r over the balls below node n.
-  double LowerBound(const Node& n, const Vec3& x, double scale) const;
+  // Lower bound of |x - c| - scale * r over the balls below node n. With a
+  // `cut`: once the box bound alone reaches it, that bound is returned (a
+  // caller that only asks "below cut?" gets the same answer, and the same
+  // value whenever the answer is yes).
+  double LowerBound(const Node& n, const Vec3& x, double scale,
+                    double cut = std::numeric_limits<double>::infinity()) const;
 
   std::vector<Node> nodes_;
   std::vector<Ball> balls_;
