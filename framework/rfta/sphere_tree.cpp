@@ -192,6 +192,11 @@ double SphereTree::LowerBound(const Node& n, const Vec3& x, double scale, double
   return std::max(box, lin);
 }
 
+double SphereTree::OffsetBound(const Node& n, const Vec3& x, double offset) const {
+  // No ball below n has r + offset > 0: none can contain x.
+  return n.rmax + offset > 0.0 ? LowerBound(n, x, 1.0, offset) : offset;
+}
+
 void SphereTree::CollectLocal(const Vec3& lo, const Vec3& hi, double offset, LocalSet* set) const {
   set->lo = lo;
   set->hi = hi;
@@ -243,10 +248,7 @@ int SphereTree::FindContaining(const Vec3& x, double offset, int ignore_id, cons
   // Each child's bound is computed once, by its parent: children it rules
   // out are not pushed, and the one with the lower bound (the likelier to
   // hold a containing ball) is popped first.
-  auto bound = [&](std::int32_t i) {
-    const Node& n = nodes_[i];
-    return n.rmax + offset > 0.0 ? LowerBound(n, x, 1.0, offset) : offset;
-  };
+  auto bound = [&](std::int32_t i) { return OffsetBound(nodes_[i], x, offset); };
   std::int32_t stack[kStack];
   int sp = 0;
   if (bound(0) < offset) stack[sp++] = 0;
@@ -279,7 +281,7 @@ void SphereTree::CollectContaining(const Vec3& x, double offset, int ignore_id, 
   stack[sp++] = 0;
   while (sp > 0) {
     const Node& n = nodes_[stack[--sp]];
-    if (n.rmax + offset <= 0.0 || LowerBound(n, x, 1.0, offset) >= offset) continue;
+    if (OffsetBound(n, x, offset) >= offset) continue;
     if (n.count > 0) {
       for (std::int32_t k = n.begin; k < n.begin + n.count; ++k)
         if (Contains(k, x, offset, ignore_id)) ids->push_back(ids_[k]);

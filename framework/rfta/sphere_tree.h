@@ -128,6 +128,10 @@ class SphereTree {
   // value whenever the answer is yes).
   double LowerBound(const Node& n, const Vec3& x, double scale,
                     double cut = std::numeric_limits<double>::infinity()) const;
+  // The containment queries' node test (FindContaining, CollectContaining):
+  // a value >= offset rules node n out for "|x - c| < r + offset"; below
+  // offset it is LowerBound's exact value.
+  double OffsetBound(const Node& n, const Vec3& x, double offset) const;
 
   std::vector<Node> nodes_;
   std::vector<Ball> balls_;
