@@ -1224,12 +1224,16 @@ Mesh Solver::Extract(double iso) {
   std::vector<Key> round = std::move(seeds), next;
   std::vector<std::array<double, 8>> round_g;
   std::vector<int> round_config;
+  prefetch(round);
   while (!round.empty()) {
-    prefetch(round);
     next.clear();
     // The corner values (all known after the prefetch) and configurations
-    // of the round's cells, in parallel; then the serial pass that numbers
-    // vertices and queues neighbours in the queue's order.
+    // of the round's cells, in parallel; then two serial passes in the
+    // queue's order: one queues the neighbours (`visited`, `next`), the other
+    // numbers vertices and makes triangles (`emap`, `verts`, `tris`). Neither
+    // reads what the other writes, nor what the prefetch writes (`gmap`,
+    // `rmap`, `islands_`), so the numbering runs beside the next round's
+    // prefetch.
     round_g.resize(round.size());
     round_config.resize(round.size());
     ParallelFor(static_cast<std::int64_t>(round.size()), [&](std::int64_t b0, std::int64_t e0) {
@@ -1245,20 +1249,11 @@ Mesh Solver::Extract(double iso) {
       }
     }, 512);
     for (std::size_t i = 0; i < round.size(); ++i) {
+      const int config = round_config[i];
+      if (config == 0 || config == 255) continue;
       const Key cell = round[i];
       const int x = KX(cell), y = KY(cell), z = KZ(cell);
       const double* cg = round_g[i].data();
-      const int config = round_config[i];
-      if (config == 0 || config == 255) continue;
-      for (const auto& tri : detail::MarchingCubesCase(config)) {
-        std::array<int, 3> f;
-        for (int k = 0; k < 3; ++k) {
-          const int e = tri[k];
-          const int c0 = detail::MarchingCubesEdgeCorner(e), axis = e / 4;
-          f[k] = vertex(x + (c0 & 1), y + ((c0 >> 1) & 1), z + ((c0 >> 2) & 1), axis, cg[c0], cg[c0 | (1 << axis)]);
-        }
-        tris.push_back(f);
-      }
       // Faces with both signs lead to the neighbour across them.
       for (int a = 0; a < 3; ++a)
         for (int side = 0; side < 2; ++side) {
@@ -1277,6 +1272,27 @@ Mesh Solver::Extract(double iso) {
           next.push_back(nk);
         }
     }
+    auto number = [&] {
+      for (std::size_t i = 0; i < round.size(); ++i) {
+        const int config = round_config[i];
+        if (config == 0 || config == 255) continue;
+        const Key cell = round[i];
+        const int x = KX(cell), y = KY(cell), z = KZ(cell);
+        const double* cg = round_g[i].data();
+        for (const auto& tri : detail::MarchingCubesCase(config)) {
+          std::array<int, 3> f;
+          for (int k = 0; k < 3; ++k) {
+            const int e = tri[k];
+            const int c0 = detail::MarchingCubesEdgeCorner(e), axis = e / 4;
+            f[k] = vertex(x + (c0 & 1), y + ((c0 >> 1) & 1), z + ((c0 >> 2) & 1), axis, cg[c0], cg[c0 | (1 << axis)]);
+          }
+          tris.push_back(f);
+        }
+      }
+    };
+    ParallelInvoke(number, [&] {
+      if (!next.empty()) prefetch(next);
+    });
     round.swap(next);
   }
   Mesh m;

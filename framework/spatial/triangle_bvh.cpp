@@ -659,69 +659,91 @@ void TriangleBvh::Impl::Build() {
     int node4, slot, begin, end, bnode;
   };
   std::vector<Fit> fits;
-  fits.reserve(nb);
-  nodes.reserve(nb / 2 + 1);
-  nodes.emplace_back();
-  std::vector<Pending> todo{{0, 0, 1}};
-  max_depth = 1;
-  while (!todo.empty()) {
-    const Pending pd = todo.back();
-    todo.pop_back();
-    int kids[4];
-    int nk = 0;
-    if (bin[pd.bnode].count > 0) {
-      kids[nk++] = pd.bnode;  // the whole tree is one leaf
-    } else {
-      kids[nk++] = pd.bnode + 1;
-      kids[nk++] = bin[pd.bnode].first;
-      while (nk < 4) {
-        int best = -1;
-        double best_area = -1.0;
-        for (int k = 0; k < nk; ++k) {
-          if (bin[kids[k]].count == 0 && half_area(kids[k]) > best_area) {
-            best = k;
-            best_area = half_area(kids[k]);
-          }
-        }
-        if (best < 0) break;
-        const int c = kids[best];
-        for (int k = nk; k > best + 1; --k) kids[k] = kids[k - 1];
-        kids[best] = c + 1;
-        kids[best + 1] = bin[c].first;
-        ++nk;
-      }
-    }
-    Node4 fill;
-    for (int j = 0; j < 4; ++j) {
-      for (int k = 0; k < 3; ++k) {
-        fill.lo[k][j] = fill.olo[k][j] = INFINITY;
-        fill.hi[k][j] = fill.ohi[k][j] = -INFINITY;
-      }
-      for (int k = 0; k < 9; ++k) fill.rot[k][j] = 0.0f;
-      fill.child[j] = -1;
-      fill.count[j] = -1;
-    }
-    for (int j = 0; j < nk; ++j) {
-      const Node& c = bin[kids[j]];
-      for (int k = 0; k < 3; ++k) {
-        fill.lo[k][j] = RoundDown(c.lo[k] - origin[k]);
-        fill.hi[k][j] = RoundUp(c.hi[k] - origin[k]);
-      }
-      fits.push_back({pd.node4, j, range_begin[kids[j]], range_end[kids[j]], kids[j]});
-      if (c.count > 0) {
-        fill.child[j] = c.first;
-        fill.count[j] = c.count;
+  // Run side by side below: the collapse (serial) and the binary nodes'
+  // moments for the oriented boxes. Neither reads what the other writes.
+  auto collapse = [&] {
+    fits.reserve(nb);
+    nodes.reserve(nb / 2 + 1);
+    nodes.emplace_back();
+    std::vector<Pending> todo{{0, 0, 1}};
+    max_depth = 1;
+    while (!todo.empty()) {
+      const Pending pd = todo.back();
+      todo.pop_back();
+      int kids[4];
+      int nk = 0;
+      if (bin[pd.bnode].count > 0) {
+        kids[nk++] = pd.bnode;  // the whole tree is one leaf
       } else {
-        fill.count[j] = 0;
-        fill.child[j] = static_cast<int>(nodes.size());
-        nodes.emplace_back();
-        todo.push_back({kids[j], fill.child[j], pd.depth + 1});
-        max_depth = std::max(max_depth, pd.depth + 1);
+        kids[nk++] = pd.bnode + 1;
+        kids[nk++] = bin[pd.bnode].first;
+        while (nk < 4) {
+          int best = -1;
+          double best_area = -1.0;
+          for (int k = 0; k < nk; ++k) {
+            if (bin[kids[k]].count == 0 && half_area(kids[k]) > best_area) {
+              best = k;
+              best_area = half_area(kids[k]);
+            }
+          }
+          if (best < 0) break;
+          const int c = kids[best];
+          for (int k = nk; k > best + 1; --k) kids[k] = kids[k - 1];
+          kids[best] = c + 1;
+          kids[best + 1] = bin[c].first;
+          ++nk;
+        }
       }
+      Node4 fill;
+      for (int j = 0; j < 4; ++j) {
+        for (int k = 0; k < 3; ++k) {
+          fill.lo[k][j] = fill.olo[k][j] = INFINITY;
+          fill.hi[k][j] = fill.ohi[k][j] = -INFINITY;
+        }
+        for (int k = 0; k < 9; ++k) fill.rot[k][j] = 0.0f;
+        fill.child[j] = -1;
+        fill.count[j] = -1;
+      }
+      for (int j = 0; j < nk; ++j) {
+        const Node& c = bin[kids[j]];
+        for (int k = 0; k < 3; ++k) {
+          fill.lo[k][j] = RoundDown(c.lo[k] - origin[k]);
+          fill.hi[k][j] = RoundUp(c.hi[k] - origin[k]);
+        }
+        fits.push_back({pd.node4, j, range_begin[kids[j]], range_end[kids[j]], kids[j]});
+        if (c.count > 0) {
+          fill.child[j] = c.first;
+          fill.count[j] = c.count;
+        } else {
+          fill.count[j] = 0;
+          fill.child[j] = static_cast<int>(nodes.size());
+          nodes.emplace_back();
+          todo.push_back({kids[j], fill.child[j], pd.depth + 1});
+          max_depth = std::max(max_depth, pd.depth + 1);
+        }
+      }
+      nodes[pd.node4] = fill;
     }
-    nodes[pd.node4] = fill;
-  }
+  };
+  std::vector<Moments> mom;
+  auto moments = [&] {
+    // Each binary node's moments: the leaves' from their triangles, an inner
+    // node's as the sum of its children's (children have larger indices).
+    mom.resize(nb);
+    ParallelFor(nb, [&](std::int64_t b0, std::int64_t e0) {
+      for (std::int64_t i = b0; i < e0; ++i) {
+        if (bin[i].count == 0) continue;
+        for (int t = bin[i].first; t < bin[i].first + bin[i].count; ++t) mom[i].Add(TriMoments(t));
+      }
+    }, 4096);
+    for (int i = nb - 1; i >= 0; --i) {
+      if (bin[i].count > 0) continue;
+      mom[i] = mom[i + 1];
+      mom[i].Add(mom[bin[i].first]);
+    }
+  };
   if (!oriented) {
+    collapse();
     // The identity frame with the axis-aligned extents: the oriented bound
     // equals the axis-aligned one.
     for (const Fit& f : fits) {
@@ -734,20 +756,7 @@ void TriangleBvh::Impl::Build() {
     }
     return;
   }
-  // Each binary node's moments: the leaves' from their triangles, an inner
-  // node's as the sum of its children's (children have larger indices).
-  std::vector<Moments> mom(nb);
-  ParallelFor(nb, [&](std::int64_t b0, std::int64_t e0) {
-    for (std::int64_t i = b0; i < e0; ++i) {
-      if (bin[i].count == 0) continue;
-      for (int t = bin[i].first; t < bin[i].first + bin[i].count; ++t) mom[i].Add(TriMoments(t));
-    }
-  }, 4096);
-  for (int i = nb - 1; i >= 0; --i) {
-    if (bin[i].count > 0) continue;
-    mom[i] = mom[i + 1];
-    mom[i].Add(mom[bin[i].first]);
-  }
+  ParallelInvoke(collapse, moments);
   ParallelFor(static_cast<std::int64_t>(fits.size()), [&](std::int64_t b0, std::int64_t e0) {
     for (std::int64_t k = b0; k < e0; ++k)
       FitOrientedBox(mom[fits[k].bnode], fits[k].begin, fits[k].end, &nodes[fits[k].node4], fits[k].slot);

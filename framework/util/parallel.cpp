@@ -4,6 +4,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -21,6 +22,15 @@ void ParallelFor(std::int64_t n, const std::function<void(std::int64_t, std::int
   }
   tbb::parallel_for(tbb::blocked_range<std::int64_t>(0, n, grain),
                     [&](const tbb::blocked_range<std::int64_t>& r) { body(r.begin(), r.end()); });
+}
+
+void ParallelInvoke(const std::function<void()>& a, const std::function<void()>& b) {
+  if (MaxThreads() <= 1) {
+    a();
+    b();
+    return;
+  }
+  tbb::parallel_invoke(a, b);
 }
 
 int MaxThreads() {

@@ -17,6 +17,12 @@ namespace arcs {
 void ParallelFor(std::int64_t n, const std::function<void(std::int64_t, std::int64_t)>& body,
                  std::int64_t grain = 1024);
 
+// Runs a() and b(), side by side when more than one thread is allowed (either
+// may itself call ParallelFor: a thread that finishes its own job helps with
+// the other's loops), and returns when both have. They must not write what
+// the other reads.
+void ParallelInvoke(const std::function<void()>& a, const std::function<void()>& b);
+
 // Number of worker threads currently allowed.
 int MaxThreads();
 
