@@ -171,19 +171,25 @@ struct CoarseGrid {
   void Apply(const std::vector<double>& v, std::vector<double>& out) const {
     out.assign(N(), 0.0);
     const int r1 = res + 1;
-    for (int z = 0; z <= res; ++z)
-      for (int y = 0; y <= res; ++y)
-        for (int x = 0; x <= res; ++x) {
-          const int i = Idx(x, y, z);
-          const double* c = &coef[static_cast<std::size_t>(i) * 27];
-          double acc = 0;
-          for (int o = 0; o < 27; ++o)
-            if (c[o] != 0) acc += c[o] * v[i + Ox(o) + r1 * (Oy(o) + r1 * Oz(o))];
-          out[i] = acc;
-        }
+    ParallelFor(r1, [&](std::int64_t z0, std::int64_t z1) {
+      for (int z = static_cast<int>(z0); z < z1; ++z)
+        for (int y = 0; y <= res; ++y)
+          for (int x = 0; x <= res; ++x) {
+            const int i = Idx(x, y, z);
+            const double* c = &coef[static_cast<std::size_t>(i) * 27];
+            double acc = 0;
+            for (int o = 0; o < 27; ++o)
+              if (c[o] != 0) acc += c[o] * v[i + Ox(o) + r1 * (Oy(o) + r1 * Oz(o))];
+            out[i] = acc;
+          }
+    }, std::max<std::int64_t>(1, 16384 / (std::int64_t(r1) * r1 * 27)));
   }
   double Diag(int i) const { return coef[static_cast<std::size_t>(i) * 27 + 13]; }
 };
+
+// The z-slices per parallel task for the complete grids' loops, given the
+// work of one slice: tasks of at least ~16k operations.
+inline std::int64_t SliceGrain(std::int64_t per_slice) { return std::max<std::int64_t>(1, 16384 / per_slice); }
 
 // Restriction (P^T, the transpose of trilinear prolongation) from a complete
 // grid of resolution 2r to one of resolution r, and prolongation back.
@@ -191,7 +197,9 @@ inline void Restrict(int r, const std::vector<double>& fine, std::vector<double>
   const int f1 = 2 * r + 1, c1 = r + 1;
   coarse.assign(static_cast<std::size_t>(c1) * c1 * c1, 0.0);
   static const double w1[3] = {0.5, 1.0, 0.5};
-  for (int z = 0; z <= r; ++z)
+  // By coarse z-slices in parallel (each entry its own sum: the same bits).
+  ParallelFor(r + 1, [&](std::int64_t z0, std::int64_t z1) {
+  for (int z = static_cast<int>(z0); z < z1; ++z)
     for (int y = 0; y <= r; ++y)
       for (int x = 0; x <= r; ++x) {
         double acc = 0;
@@ -210,16 +218,19 @@ inline void Restrict(int r, const std::vector<double>& fine, std::vector<double>
         }
         coarse[x + c1 * (y + c1 * z)] = acc;
       }
+  }, SliceGrain(c1 * c1 * 27));
 }
 
 inline void ProlongAdd(int r, const std::vector<double>& coarse, std::vector<double>& fine) {
   const int f1 = 2 * r + 1, c1 = r + 1;
-  for (int Z = 0; Z <= 2 * r; ++Z)
-    for (int Y = 0; Y <= 2 * r; ++Y)
-      for (int X = 0; X <= 2 * r; ++X) {
-        fine[X + f1 * (Y + f1 * Z)] +=
-            ParentSum<double>(X, Y, Z, [&](int a, int b, int c) { return coarse[a + c1 * (b + c1 * c)]; });
-      }
+  ParallelFor(f1, [&](std::int64_t z0, std::int64_t z1) {
+    for (int Z = static_cast<int>(z0); Z < z1; ++Z)
+      for (int Y = 0; Y <= 2 * r; ++Y)
+        for (int X = 0; X <= 2 * r; ++X) {
+          fine[X + f1 * (Y + f1 * Z)] +=
+              ParentSum<double>(X, Y, Z, [&](int a, int b, int c) { return coarse[a + c1 * (b + c1 * c)]; });
+        }
+  }, SliceGrain(f1 * f1 * 8));
 }
 
 class Solver {
@@ -742,10 +753,11 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
   std::vector<CoarseGrid> grids;  // levels 2 .. F-1
   Eigen::LLT<Eigen::MatrixXd> coarsest;
   if (mg) {
-    for (int c = 2; c < F_; ++c) {
-      grids.emplace_back();
-      grids.back().Build(c, p_, L.s_idx, beta);
-    }
+    // Levels 2 .. F-1, each built on its own (in parallel).
+    grids.resize(static_cast<std::size_t>(F_ - 2));
+    ParallelFor(F_ - 2, [&](std::int64_t b0, std::int64_t e0) {
+      for (std::int64_t c = b0; c < e0; ++c) grids[c].Build(static_cast<int>(c) + 2, p_, L.s_idx, beta);
+    }, 1);
     const CoarseGrid& g = grids.front();
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(g.N(), g.N());
     const int r1 = g.res + 1;
@@ -759,6 +771,12 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
     coarsest.compute(A);
   }
   constexpr double kOmega = 0.8;  // Jacobi damping (the Q1 stencil's D^-1 K spans about [0, 1.5])
+  // f(i) for i in [0, n), in parallel (elementwise: the same bits).
+  auto each = [](std::int64_t n, auto&& f) {
+    ParallelFor(n, [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t i = b; i < e; ++i) f(i);
+    }, 4096);
+  };
   // e = V(r) on coarse grid k (index into grids), r and e dense.
   std::function<void(std::size_t, const std::vector<double>&, std::vector<double>&)> vcycle =
       [&](std::size_t k, const std::vector<double>& rr, std::vector<double>& e) {
@@ -770,17 +788,17 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
         }
         std::vector<double> ae, res(g.N()), rc, ec;
         e.assign(g.N(), 0.0);
-        for (int i = 0; i < g.N(); ++i) e[i] = kOmega * rr[i] / g.Diag(i);
+        each(g.N(), [&](std::int64_t i) { e[i] = kOmega * rr[i] / g.Diag(i); });
         g.Apply(e, ae);
-        for (int i = 0; i < g.N(); ++i) e[i] += kOmega * (rr[i] - ae[i]) / g.Diag(i);
+        each(g.N(), [&](std::int64_t i) { e[i] += kOmega * (rr[i] - ae[i]) / g.Diag(i); });
         g.Apply(e, ae);
-        for (int i = 0; i < g.N(); ++i) res[i] = rr[i] - ae[i];
+        each(g.N(), [&](std::int64_t i) { res[i] = rr[i] - ae[i]; });
         Restrict(grids[k - 1].res, res, rc);
         vcycle(k - 1, rc, ec);
         ProlongAdd(grids[k - 1].res, ec, e);
         for (int sweep = 0; sweep < 2; ++sweep) {
           g.Apply(e, ae);
-          for (int i = 0; i < g.N(); ++i) e[i] += kOmega * (rr[i] - ae[i]) / g.Diag(i);
+          each(g.N(), [&](std::int64_t i) { e[i] += kOmega * (rr[i] - ae[i]) / g.Diag(i); });
         }
       };
   // z = V(r) on the base level itself (its own parallel operator).
@@ -788,20 +806,20 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
   std::function<void(const std::vector<double>&, std::vector<double>&)> precondition =
       [&](const std::vector<double>& rr, std::vector<double>& zz) {
     if (!mg) {
-      for (std::int64_t i = 0; i < nn; ++i) zz[i] = rr[i] / diag[i];
+      each(nn, [&](std::int64_t i) { zz[i] = rr[i] / diag[i]; });
       return;
     }
-    for (std::int64_t i = 0; i < nn; ++i) zz[i] = kOmega * rr[i] / diag[i];
+    each(nn, [&](std::int64_t i) { zz[i] = kOmega * rr[i] / diag[i]; });
     apply(zz, ae);
-    for (std::int64_t i = 0; i < nn; ++i) zz[i] += kOmega * (rr[i] - ae[i]) / diag[i];
+    each(nn, [&](std::int64_t i) { zz[i] += kOmega * (rr[i] - ae[i]) / diag[i]; });
     apply(zz, ae);
-    for (std::int64_t i = 0; i < nn; ++i) res[i] = rr[i] - ae[i];
+    each(nn, [&](std::int64_t i) { res[i] = rr[i] - ae[i]; });
     Restrict(grids.back().res, res, rc);
     vcycle(grids.size() - 1, rc, ec);
     ProlongAdd(grids.back().res, ec, zz);
     for (int sweep = 0; sweep < 2; ++sweep) {
       apply(zz, ae);
-      for (std::int64_t i = 0; i < nn; ++i) zz[i] += kOmega * (rr[i] - ae[i]) / diag[i];
+      each(nn, [&](std::int64_t i) { zz[i] += kOmega * (rr[i] - ae[i]) / diag[i]; });
     }
   };
   // The finer levels' Gauss-Seidel (SpsrOptions::FineSolver): eight colours
