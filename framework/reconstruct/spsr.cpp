@@ -1266,12 +1266,16 @@ Mesh Solver::Extract(double iso) {
         round_config[i] = config;
       }
     }, 512);
-    for (std::size_t i = 0; i < round.size(); ++i) {
-      const int config = round_config[i];
-      if (config == 0 || config == 255) continue;
-      const Key cell = round[i];
-      const int x = KX(cell), y = KY(cell), z = KZ(cell);
-      const double* cg = round_g[i].data();
+    // fn(x, y, z, corner values, configuration) for the round's cells that
+    // the surface crosses, in the queue's order.
+    auto crossed = [&](auto&& fn) {
+      for (std::size_t i = 0; i < round.size(); ++i) {
+        const int config = round_config[i];
+        if (config == 0 || config == 255) continue;
+        fn(KX(round[i]), KY(round[i]), KZ(round[i]), round_g[i].data(), config);
+      }
+    };
+    crossed([&](int x, int y, int z, const double* cg, int) {
       // Faces with both signs lead to the neighbour across them.
       for (int a = 0; a < 3; ++a)
         for (int side = 0; side < 2; ++side) {
@@ -1289,14 +1293,9 @@ Mesh Solver::Extract(double iso) {
           visited.Set(nk, 1);
           next.push_back(nk);
         }
-    }
+    });
     auto number = [&] {
-      for (std::size_t i = 0; i < round.size(); ++i) {
-        const int config = round_config[i];
-        if (config == 0 || config == 255) continue;
-        const Key cell = round[i];
-        const int x = KX(cell), y = KY(cell), z = KZ(cell);
-        const double* cg = round_g[i].data();
+      crossed([&](int x, int y, int z, const double* cg, int config) {
         for (const auto& tri : detail::MarchingCubesCase(config)) {
           std::array<int, 3> f;
           for (int k = 0; k < 3; ++k) {
@@ -1306,7 +1305,7 @@ Mesh Solver::Extract(double iso) {
           }
           tris.push_back(f);
         }
-      }
+      });
     };
     ParallelInvoke(number, [&] {
       if (!next.empty()) prefetch(next);
