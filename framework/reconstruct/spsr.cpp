@@ -133,6 +133,10 @@ T ParentSum(int x, int y, int z, Fn&& at) {
 // stiffness of its own tents, the screening of the base level's samples
 // weighted by its own trilinear weights and the base level's beta), stored
 // as 27 coefficients per node.
+// The z-slices per parallel task for the complete grids' loops, given the
+// work of one slice: tasks of at least ~16k operations.
+inline std::int64_t SliceGrain(std::int64_t per_slice) { return std::max<std::int64_t>(1, 16384 / per_slice); }
+
 struct CoarseGrid {
   int res = 0;
   std::vector<double> coef;  // 27 per node
@@ -182,14 +186,10 @@ struct CoarseGrid {
               if (c[o] != 0) acc += c[o] * v[i + Ox(o) + r1 * (Oy(o) + r1 * Oz(o))];
             out[i] = acc;
           }
-    }, std::max<std::int64_t>(1, 16384 / (std::int64_t(r1) * r1 * 27)));
+    }, SliceGrain(std::int64_t(r1) * r1 * 27));
   }
   double Diag(int i) const { return coef[static_cast<std::size_t>(i) * 27 + 13]; }
 };
-
-// The z-slices per parallel task for the complete grids' loops, given the
-// work of one slice: tasks of at least ~16k operations.
-inline std::int64_t SliceGrain(std::int64_t per_slice) { return std::max<std::int64_t>(1, 16384 / per_slice); }
 
 // Restriction (P^T, the transpose of trilinear prolongation) from a complete
 // grid of resolution 2r to one of resolution r, and prolongation back.
@@ -199,25 +199,25 @@ inline void Restrict(int r, const std::vector<double>& fine, std::vector<double>
   static const double w1[3] = {0.5, 1.0, 0.5};
   // By coarse z-slices in parallel (each entry its own sum: the same bits).
   ParallelFor(r + 1, [&](std::int64_t z0, std::int64_t z1) {
-  for (int z = static_cast<int>(z0); z < z1; ++z)
-    for (int y = 0; y <= r; ++y)
-      for (int x = 0; x <= r; ++x) {
-        double acc = 0;
-        for (int dz = -1; dz <= 1; ++dz) {
-          const int Z = 2 * z + dz;
-          if (Z < 0 || Z > 2 * r) continue;
-          for (int dy = -1; dy <= 1; ++dy) {
-            const int Y = 2 * y + dy;
-            if (Y < 0 || Y > 2 * r) continue;
-            for (int dx = -1; dx <= 1; ++dx) {
-              const int X = 2 * x + dx;
-              if (X < 0 || X > 2 * r) continue;
-              acc += w1[dx + 1] * w1[dy + 1] * w1[dz + 1] * fine[X + f1 * (Y + f1 * Z)];
+    for (int z = static_cast<int>(z0); z < z1; ++z)
+      for (int y = 0; y <= r; ++y)
+        for (int x = 0; x <= r; ++x) {
+          double acc = 0;
+          for (int dz = -1; dz <= 1; ++dz) {
+            const int Z = 2 * z + dz;
+            if (Z < 0 || Z > 2 * r) continue;
+            for (int dy = -1; dy <= 1; ++dy) {
+              const int Y = 2 * y + dy;
+              if (Y < 0 || Y > 2 * r) continue;
+              for (int dx = -1; dx <= 1; ++dx) {
+                const int X = 2 * x + dx;
+                if (X < 0 || X > 2 * r) continue;
+                acc += w1[dx + 1] * w1[dy + 1] * w1[dz + 1] * fine[X + f1 * (Y + f1 * Z)];
+              }
             }
           }
+          coarse[x + c1 * (y + c1 * z)] = acc;
         }
-        coarse[x + c1 * (y + c1 * z)] = acc;
-      }
   }, SliceGrain(c1 * c1 * 27));
 }
 

@@ -19,10 +19,10 @@ struct Balls {
   std::vector<int> ids;
 };
 
-// Balls whose radius grows with the distance from a sphere of radius 0.3,
-// like (shrunk) SDF data, plus a few small random ones: realistic radii, and
-// gaps near the sphere where queries answer "none".
-Balls MakeBalls(int n, std::uint64_t seed) {
+// n balls with centres uniform in the unit cube; ball i's radius is
+// radius(i, centre, rng), drawn after its centre, and its id id(i).
+template <class Radius, class Id>
+Balls RandomBalls(int n, std::uint64_t seed, Radius radius, Id id) {
   Rng rng(seed);
   Balls b;
   b.C.resize(n, 3);
@@ -30,11 +30,23 @@ Balls MakeBalls(int n, std::uint64_t seed) {
   for (int i = 0; i < n; ++i) {
     const Vec3 c(rng.Uniform(), rng.Uniform(), rng.Uniform());
     b.C.row(i) = c.transpose();
-    const double d = std::abs((c - Vec3(0.5, 0.5, 0.5)).norm() - 0.3);
-    b.R[i] = i % 17 == 0 ? rng.Uniform(0.0, 0.05) : 0.9 * d;
-    b.ids.push_back(1000 + i);
+    b.R[i] = radius(i, c, rng);
+    b.ids.push_back(id(i));
   }
   return b;
+}
+
+// Balls whose radius grows with the distance from a sphere of radius 0.3,
+// like (shrunk) SDF data, plus a few small random ones: realistic radii, and
+// gaps near the sphere where queries answer "none".
+Balls MakeBalls(int n, std::uint64_t seed) {
+  return RandomBalls(
+      n, seed,
+      [](int i, const Vec3& c, Rng& rng) {
+        const double d = std::abs((c - Vec3(0.5, 0.5, 0.5)).norm() - 0.3);
+        return i % 17 == 0 ? rng.Uniform(0.0, 0.05) : 0.9 * d;
+      },
+      [](int i) { return 1000 + i; });
 }
 
 double Dist(const Balls& b, int i, const Vec3& x) { return (Vec3(b.C.row(i).transpose()) - x).norm(); }
@@ -44,23 +56,14 @@ double Dist(const Balls& b, int i, const Vec3& x) { return (Vec3(b.C.row(i).tran
 // relative 1e-4: the nodes' affine bound is tight), SDF radii of a sphere
 // (affine only locally), and random radii. Ids repeat: ball i has id 2000 + i % (n / 3), one of each family.
 Balls MakeMixedBalls(int n, std::uint64_t seed) {
-  Rng rng(seed);
-  Balls b;
-  b.C.resize(n, 3);
-  b.R.resize(n);
-  for (int i = 0; i < n; ++i) {
-    const Vec3 c(rng.Uniform(), rng.Uniform(), rng.Uniform());
-    b.C.row(i) = c.transpose();
-    if (i % 3 == 0) {
-      b.R[i] = 0.95 * std::abs(c.z() - 0.45) * (1.0 + 1e-4 * rng.Uniform(-1.0, 1.0));
-    } else if (i % 3 == 1) {
-      b.R[i] = 0.9 * std::abs((c - Vec3(0.5, 0.5, 0.5)).norm() - 0.3);
-    } else {
-      b.R[i] = rng.Uniform(0.0, 0.08);
-    }
-    b.ids.push_back(2000 + i % (n / 3));
-  }
-  return b;
+  return RandomBalls(
+      n, seed,
+      [](int i, const Vec3& c, Rng& rng) {
+        if (i % 3 == 0) return 0.95 * std::abs(c.z() - 0.45) * (1.0 + 1e-4 * rng.Uniform(-1.0, 1.0));
+        if (i % 3 == 1) return 0.9 * std::abs((c - Vec3(0.5, 0.5, 0.5)).norm() - 0.3);
+        return rng.Uniform(0.0, 0.08);
+      },
+      [n](int i) { return 2000 + i % (n / 3); });
 }
 
 // A box and offset for CollectLocal.
