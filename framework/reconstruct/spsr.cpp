@@ -599,21 +599,24 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
 // start and receives the result). Returns the iterations used.
 int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, int max_iters, double tol) {
   const std::int64_t nn = static_cast<std::int64_t>(L.nodes.size());
-  // Interior stencil (no node on the cube's faces).
-  std::array<double, 27> kin{};
-  for (int o = 0; o < 27; ++o) {
-    const int mid = L.res / 2;
+  // A node's stencil depends only on which faces of the cube it lies on
+  // (the tents are cut there): one row per class, (x, y, z) each at 0,
+  // inside or at res; class 13, the interior, is kin.
+  std::array<std::array<double, 27>, 27> kclass{};
+  for (int c = 0; c < 27; ++c) {
+    const int at[3] = {0, L.res / 2, L.res};
+    const int x = at[c % 3], y = at[(c / 3) % 3], z = at[c / 9];
     const Tent1D& t = L.tent;
-    kin[o] = t.S(mid, Ox(o)) * t.M(mid, Oy(o)) * t.M(mid, Oz(o)) +
-             t.M(mid, Ox(o)) * t.S(mid, Oy(o)) * t.M(mid, Oz(o)) +
-             t.M(mid, Ox(o)) * t.M(mid, Oy(o)) * t.S(mid, Oz(o));
+    for (int o = 0; o < 27; ++o)
+      kclass[c][o] = t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) + t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
+                     t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o));
   }
-  auto stencil = [&](std::int64_t i, int o) {
-    if (!L.on_face[i]) return kin[o];
-    const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
-    const Tent1D& t = L.tent;
-    return t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) + t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
-           t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o));
+  const std::array<double, 27>& kin = kclass[13];
+  auto stencil_row = [&](std::int64_t i) -> const double* {
+    if (!L.on_face[i]) return kin.data();
+    auto cls = [&](int a) { return a == 0 ? 0 : a == L.res ? 2 : 1; };
+    const Key k = L.nodes[i];
+    return kclass[cls(KX(k)) + 3 * cls(KY(k)) + 9 * cls(KZ(k))].data();
   };
   const bool complete = nn == std::int64_t(L.res + 1) * (L.res + 1) * (L.res + 1);  // nodes in x-fastest order
   std::array<std::ptrdiff_t, 27> off{};
@@ -637,7 +640,7 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
   std::vector<double> diag(nn);
   ParallelFor(nn, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t i = b; i < e; ++i) {
-      double d = stencil(i, 13);
+      double d = stencil_row(i)[13];
       for (int k = start[i]; k < start[i + 1]; ++k) d += beta * sw[k] * sw[k];
       diag[i] = d;
     }
@@ -656,8 +659,9 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       for (int o = 0; o < 27; ++o)
         if (nb[o] >= 0) acc += kin[o] * v[nb[o]];
     } else {
+      const double* k = stencil_row(i);
       for (int o = 0; o < 27; ++o)
-        if (nb[o] >= 0) acc += stencil(i, o) * v[nb[o]];
+        if (nb[o] >= 0) acc += k[o] * v[nb[o]];
     }
     if (beta > 0)
       for (int k = start[i]; k < start[i + 1]; ++k) acc += sw[k] * sval[slot[k]];
@@ -690,17 +694,20 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
         a3 += k * v0[f + 3];
       }
     } else {
+      // A missing neighbour reads a zero through a select instead of a
+      // branch: k * 0 is a signed zero, and adding one to a sum that
+      // started at +0 leaves it unchanged (such a sum is never -0), so the
+      // sums are those of skipping the term.
+      static constexpr double kZero = 0.0;
+      const double* vp = v.data();
+      auto at = [&](int j) { return j >= 0 ? vp + j : &kZero; };
       const int* nb = &L.nbr[static_cast<std::size_t>(i) * 27];
       for (int o = 0; o < 27; ++o) {
         const double k = kin[o];
-        int j = nb[o];
-        if (j >= 0) a0 += k * v[j];
-        j = nb[27 + o];
-        if (j >= 0) a1 += k * v[j];
-        j = nb[54 + o];
-        if (j >= 0) a2 += k * v[j];
-        j = nb[81 + o];
-        if (j >= 0) a3 += k * v[j];
+        a0 += k * *at(nb[o]);
+        a1 += k * *at(nb[27 + o]);
+        a2 += k * *at(nb[54 + o]);
+        a3 += k * *at(nb[81 + o]);
       }
     }
     if (beta > 0) {
