@@ -56,6 +56,38 @@ inline int Ox(int o) { return o % 3 - 1; }
 inline int Oy(int o) { return (o / 3) % 3 - 1; }
 inline int Oz(int o) { return o / 9 - 1; }
 
+// The tents' 1D factors depend on a node only through its class on each
+// axis: 0 on the low face, 1 inside, 2 on the high face (res >= 2).
+inline int AxisClass(int a, int res) { return a == 0 ? 0 : a == res ? 2 : 1; }
+struct TentByClass {
+  double M[3][3], S[3][3], D[3][3];  // [class][offset + 1]
+  explicit TentByClass(const Tent1D& t) {
+    const int at[3] = {0, t.res / 2, t.res};
+    for (int c = 0; c < 3; ++c)
+      for (int o = -1; o <= 1; ++o) {
+        M[c][o + 1] = t.M(at[c], o);
+        S[c][o + 1] = t.S(at[c], o);
+        D[c][o + 1] = t.D(at[c], o);
+      }
+  }
+};
+// The stiffness stencil of a node of class cx + 3 cy + 9 cz, offset o
+// (the same expression, so the same values, as from the tents directly).
+using ClassStencil = std::array<std::array<double, 27>, 27>;
+inline ClassStencil StencilByClass(const Tent1D& t) {
+  const TentByClass b(t);
+  ClassStencil k{};
+  for (int c = 0; c < 27; ++c) {
+    const int cx = c % 3, cy = (c / 3) % 3, cz = c / 9;
+    for (int o = 0; o < 27; ++o) {
+      const int ox = Ox(o) + 1, oy = Oy(o) + 1, oz = Oz(o) + 1;
+      k[c][o] = b.S[cx][ox] * b.M[cy][oy] * b.M[cz][oz] + b.M[cx][ox] * b.S[cy][oy] * b.M[cz][oz] +
+                b.M[cx][ox] * b.M[cy][oy] * b.S[cz][oz];
+    }
+  }
+  return k;
+}
+
 struct Level {
   int d = 0, res = 0;
   double h = 0;
@@ -521,10 +553,12 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
   auto apply_g = [&](const Level& L, const std::vector<Vec3>& field, const Level* coarse,
                      const std::vector<Vec3>* coarse_field, std::vector<double>& out) {
     out.assign(L.nodes.size(), 0.0);
+    const TentByClass tc(L.tent);
     // Each row on its own (reads only): the same sums at any thread count.
     ParallelFor(static_cast<std::int64_t>(L.nodes.size()), [&](std::int64_t b0, std::int64_t e0) {
       for (std::int64_t i = b0; i < e0; ++i) {
         const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+        const int cx = AxisClass(x, L.res), cy = AxisClass(y, L.res), cz = AxisClass(z, L.res);
         double acc = 0;
         ForStencil(L, static_cast<std::size_t>(i), [&](int o, int a, int bb, int c, int j) {
           Vec3 v;
@@ -536,9 +570,9 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
             return;
           }
           if (v.isZero(0)) return;
-          const double mx = L.tent.M(x, Ox(o)), my = L.tent.M(y, Oy(o)), mz = L.tent.M(z, Oz(o));
-          acc += v[0] * L.tent.D(x, Ox(o)) * my * mz + v[1] * mx * L.tent.D(y, Oy(o)) * mz +
-                 v[2] * mx * my * L.tent.D(z, Oz(o));
+          const int ox = Ox(o) + 1, oy = Oy(o) + 1, oz = Oz(o) + 1;
+          const double mx = tc.M[cx][ox], my = tc.M[cy][oy], mz = tc.M[cz][oz];
+          acc += v[0] * tc.D[cx][ox] * my * mz + v[1] * mx * tc.D[cy][oy] * mz + v[2] * mx * my * tc.D[cz][oz];
         });
         out[i] = acc;
       }
@@ -600,23 +634,14 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
 int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, int max_iters, double tol) {
   const std::int64_t nn = static_cast<std::int64_t>(L.nodes.size());
   // A node's stencil depends only on which faces of the cube it lies on
-  // (the tents are cut there): one row per class, (x, y, z) each at 0,
-  // inside or at res; class 13, the interior, is kin.
-  std::array<std::array<double, 27>, 27> kclass{};
-  for (int c = 0; c < 27; ++c) {
-    const int at[3] = {0, L.res / 2, L.res};
-    const int x = at[c % 3], y = at[(c / 3) % 3], z = at[c / 9];
-    const Tent1D& t = L.tent;
-    for (int o = 0; o < 27; ++o)
-      kclass[c][o] = t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) + t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
-                     t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o));
-  }
+  // (the tents are cut there): one row per class; class 13, the interior,
+  // is kin.
+  const ClassStencil kclass = StencilByClass(L.tent);
   const std::array<double, 27>& kin = kclass[13];
   auto stencil_row = [&](std::int64_t i) -> const double* {
     if (!L.on_face[i]) return kin.data();
-    auto cls = [&](int a) { return a == 0 ? 0 : a == L.res ? 2 : 1; };
     const Key k = L.nodes[i];
-    return kclass[cls(KX(k)) + 3 * cls(KY(k)) + 9 * cls(KZ(k))].data();
+    return kclass[AxisClass(KX(k), L.res) + 3 * AxisClass(KY(k), L.res) + 9 * AxisClass(KZ(k), L.res)].data();
   };
   const bool complete = nn == std::int64_t(L.res + 1) * (L.res + 1) * (L.res + 1);  // nodes in x-fastest order
   std::array<std::ptrdiff_t, 27> off{};
@@ -1386,18 +1411,17 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
         for (std::int64_t i = b0; i < e0; ++i)
           P[i] = block_coarse(memo, KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
       }, 4096);
-      const Tent1D& t = L.tent;
+      const ClassStencil kclass = StencilByClass(L.tent);
       ParallelFor(nn, [&](std::int64_t b0, std::int64_t e0) {
         Memo memo(lv_.size());
         for (std::int64_t i = b0; i < e0; ++i) {
           const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+          const double* k = kclass[AxisClass(x, L.res) + 3 * AxisClass(y, L.res) + 9 * AxisClass(z, L.res)].data();
           double acc = 0;
           ForStencil(L, static_cast<std::size_t>(i), [&](int o, int a, int bb, int c, int j) {
             const double pv = j >= 0 ? P[j] : block_coarse(memo, a, bb, c);
             if (pv == 0) return;
-            acc += pv * (t.S(x, Ox(o)) * t.M(y, Oy(o)) * t.M(z, Oz(o)) +
-                         t.M(x, Ox(o)) * t.S(y, Oy(o)) * t.M(z, Oz(o)) +
-                         t.M(x, Ox(o)) * t.M(y, Oy(o)) * t.S(z, Oz(o)));
+            acc += pv * k[o];
           });
           rhs[i] -= acc;
         }
