@@ -1062,17 +1062,14 @@ Mesh Solver::Extract(double iso) {
   // known neighbour on its own side is not one, whatever the others are);
   // then the values marching cubes sees at the corners, inserted in key order.
   auto eval_raw = [&](std::vector<Key>& need) {
-    std::sort(need.begin(), need.end());
-    need.erase(std::unique(need.begin(), need.end()), need.end());
+    SortUnique(need);
     std::vector<double> val(need.size());
     ParallelFor(static_cast<std::int64_t>(need.size()), [&](std::int64_t b0, std::int64_t e0) {
       Memo memo(lv_.size());
       for (std::int64_t i = b0; i < e0; ++i)
         val[i] = iso - ValueWith(Lmax_, Pack(KX(need[i]) << up, KY(need[i]) << up, KZ(need[i]) << up), memo);
     }, 512);
-    for (std::size_t i = 0; i < need.size(); ++i) {
-      rmap.Set(need[i], val[i]);
-    }
+    rmap.SetMany(need, val);
   };
   static const int kFaceNb[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   // Keys fn(i, out) appends for i in [0, n), gathered in parallel by fixed
@@ -1091,8 +1088,7 @@ Mesh Solver::Extract(double iso) {
   };
   // Everything G needs at the nodes `cand` (any that are not in gmap yet).
   auto prefetch_nodes = [&](std::vector<Key> cand) {
-    std::sort(cand.begin(), cand.end());
-    cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
+    SortUnique(cand);
     std::vector<Key> gneed = gather(static_cast<std::int64_t>(cand.size()), [&](std::int64_t i, std::vector<Key>& out) {
       if (!gmap.Lookup(cand[i])) out.push_back(cand[i]);
     });
@@ -1164,10 +1160,8 @@ Mesh Solver::Extract(double iso) {
         isl[i] = island;
       }
     }, 1024);
-    for (std::size_t i = 0; i < gneed.size(); ++i) {
-      islands_ += isl[i];
-      gmap.Set(gneed[i], gv[i]);
-    }
+    for (std::size_t i = 0; i < gneed.size(); ++i) islands_ += isl[i];
+    gmap.SetMany(gneed, gv);
   };
   auto prefetch = [&](const std::vector<Key>& cells) {
     prefetch_nodes(gather(static_cast<std::int64_t>(cells.size()), [&](std::int64_t i, std::vector<Key>& out) {
@@ -1215,10 +1209,8 @@ Mesh Solver::Extract(double iso) {
           isl[i] = island;
         }
       }, 512);
-      for (std::size_t i = 0; i < all.size(); ++i) {
-        islands_ += isl[i];
-        gmap.Set(all[i], gv[i]);
-      }
+      for (std::size_t i = 0; i < all.size(); ++i) islands_ += isl[i];
+      gmap.SetMany(all, gv);
     }
     for (int z = 0; z <= rF; ++z)
       for (int y = 0; y <= rF; ++y)
@@ -1250,8 +1242,7 @@ Mesh Solver::Extract(double iso) {
               }
           }
   }
-  std::sort(seeds.begin(), seeds.end());
-  seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+  SortUnique(seeds);
   NodeCache<char> visited;
   for (Key s : seeds) visited.Set(s, 1);
   NodeCache<int> emap[3];

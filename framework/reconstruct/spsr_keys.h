@@ -137,6 +137,37 @@ class NodeCache {
     val_[static_cast<std::size_t>(i)] = v;
     known_[static_cast<std::size_t>(i)] = 1;
   }
+  // Set(keys[i], vals[i]) for every i in order: the same values in the same
+  // slots, the bricks made in the same order. A run of keys in one brick
+  // (sorted keys come four at a time along x) looks the brick up once.
+  void SetMany(const std::vector<Key>& keys, const std::vector<T>& vals) {
+    Key last = ~Key(0);
+    std::size_t base = 0;
+    for (std::size_t n = 0; n < keys.size(); ++n) {
+      const Key k = keys[n];
+      const int x = KX(k), y = KY(k), z = KZ(k);
+      if (shift_ >= 0 && ((x | y | z) & ((1 << shift_) - 1)) == 0 && (x >> shift_) < n_ && (y >> shift_) < n_ &&
+          (z >> shift_) < n_) {
+        const std::size_t i = static_cast<std::size_t>((x >> shift_) + n_ * ((y >> shift_) + n_ * (z >> shift_)));
+        val_[i] = vals[n];
+        known_[i] = 1;
+        continue;
+      }
+      const Key bk = BrickKey(k);
+      if (bk != last) {
+        int b = bricks_.Find(bk);
+        if (b < 0) {
+          b = bricks_.Insert(bk, static_cast<int>((val_.size() - dense_) / kCount));
+          val_.resize(val_.size() + kCount, T{});
+          known_.resize(known_.size() + kCount, 0);
+        }
+        base = dense_ + static_cast<std::size_t>(b) * kCount;
+        last = bk;
+      }
+      val_[base + Local(k)] = vals[n];
+      known_[base + Local(k)] = 1;
+    }
+  }
   // Every known key, sorted.
   std::vector<Key> SortedKeys() const {
     std::vector<Key> out;

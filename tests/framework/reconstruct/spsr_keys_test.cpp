@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <random>
 #include <set>
@@ -93,6 +94,35 @@ TEST(SpsrKeys, NodeCacheMatchesStdMapWithAndWithoutLattice) {
   for (int i = 0; i < 200; ++i) lattice.push_back(Pack(8 * (i % 128), 8 * (i / 7 % 128), 8 * (i / 3 % 128)));
   lattice.push_back(Pack(1024, 0, 0));
   CheckNodeCache(NodeCache<double>(3, 128), lattice, &rng);
+}
+
+// SetMany is the loop of Set: the same lookups and the same sorted keys,
+// on random and on sorted keys, with and without the lattice, repeats
+// included, and a later value overwrites an earlier one.
+TEST(SpsrKeys, NodeCacheSetManyIsTheLoopOfSet) {
+  std::mt19937 rng(17);
+  std::vector<Key> keys = RandomKeys(&rng, 12000);
+  std::vector<Key> sorted = keys;
+  std::sort(sorted.begin(), sorted.end());
+  for (const std::vector<Key>* ks : {&keys, &sorted})
+    for (const bool lattice : {false, true}) {
+      NodeCache<double> a = lattice ? NodeCache<double>(3, 128) : NodeCache<double>();
+      NodeCache<double> b = a;
+      std::vector<double> vals(ks->size());
+      for (std::size_t i = 0; i < ks->size(); ++i) {
+        vals[i] = 0.25 * static_cast<double>(i);
+        a.Set((*ks)[i], vals[i]);
+      }
+      b.SetMany(*ks, vals);
+      ASSERT_EQ(a.SortedKeys(), b.SortedKeys());
+      for (const Key k : a.SortedKeys()) EXPECT_EQ(*a.Lookup(k), *b.Lookup(k));
+      for (const Key k : RandomKeys(&rng, 2000)) EXPECT_EQ(a.Lookup(k) == nullptr, b.Lookup(k) == nullptr);
+      // Later values overwrite earlier ones in both.
+      a.Set((*ks)[0], -1.0);
+      b.SetMany({(*ks)[0]}, {-1.0});
+      EXPECT_EQ(*a.Lookup((*ks)[0]), -1.0);
+      EXPECT_EQ(*b.Lookup((*ks)[0]), -1.0);
+    }
 }
 
 TEST(SpsrKeys, BrickIndexMatchesSortedList) {
