@@ -145,6 +145,18 @@ inline int Parents1D(int a, int pc[2], double pw[2]) {
   return 2;
 }
 
+// The unknown index (or -1) of coarse node (a >> 1, b >> 1, c >> 1), for a
+// fine node (a, b, c) in the stencil of a fine node whose coarse node
+// (px, py, pz) has index pbase: the two coarse nodes are at most one apart
+// on each axis, so when pbase is an unknown its stencil row holds the index
+// (what node_map.Find gives, without the lookup); else the lookup.
+inline int NearCoarseIndex(const Level& C, int pbase, int px, int py, int pz, int a, int b, int c) {
+  if (pbase >= 0)
+    return C.nbr[static_cast<std::size_t>(pbase) * 27 + ((a >> 1) - px + 1) + 3 * ((b >> 1) - py + 1) +
+                 9 * ((c >> 1) - pz + 1)];
+  return C.node_map.Find(Pack(a >> 1, b >> 1, c >> 1));
+}
+
 // Σ w · at(cx, cy, cz) over the coarse parents of fine node (x, y, z) (the
 // trilinear prolongation weights of Parents1D), z outermost, x innermost.
 template <class T, class Fn>
@@ -281,6 +293,9 @@ class Solver {
   void Splat(std::vector<std::vector<Vec3>>& V);
   void Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<std::vector<double>>& b);
   Vec3 ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z) const;
+  // The same with `base`, the unknown index of coarse node (x >> 1, y >> 1,
+  // z >> 1) or -1, given.
+  Vec3 ProlongVecAt(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z, int base) const;
   int SolveLevel(Level& L, const std::vector<double>& b, double beta, int max_iters, double tol);
   // Prolonged values of nodes that are not unknowns, per level: the solver's
   // own, or a parallel block's.
@@ -499,14 +514,17 @@ void Solver::BuildTree() {
 }
 
 Vec3 Solver::ProlongVec(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z) const {
+  return ProlongVecAt(coarse, vc, x, y, z, coarse.node_map.Find(Pack(x >> 1, y >> 1, z >> 1)));
+}
+
+Vec3 Solver::ProlongVecAt(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z, int base) const {
   int cx[2], cy[2], cz[2];
   double wx[2], wy[2], wz[2];
   const int nx = Parents1D(x, cx, wx), ny = Parents1D(y, cy, wy), nz = Parents1D(z, cz, wz);
   Vec3 v = Vec3::Zero();
-  // The parents are the coarse node (cx[0], cy[0], cz[0]) and its +1
-  // neighbours: when that node is an unknown, its stencil row has their
+  // The parents are the coarse node (cx[0], cy[0], cz[0]) = `base` and its
+  // +1 neighbours: when that node is an unknown, its stencil row has their
   // indices (the same the lookups give).
-  const int base = coarse.node_map.Find(Pack(cx[0], cy[0], cz[0]));
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       for (int i = 0; i < nx; ++i) {
@@ -559,13 +577,16 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
       for (std::int64_t i = b0; i < e0; ++i) {
         const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
         const int cx = AxisClass(x, L.res), cy = AxisClass(y, L.res), cz = AxisClass(z, L.res);
+        int pbase = -2;  // the coarse node (x >> 1, y >> 1, z >> 1)'s index, looked up when first needed
         double acc = 0;
         ForStencil(L, static_cast<std::size_t>(i), [&](int o, int a, int bb, int c, int j) {
           Vec3 v;
           if (j >= 0) {
             v = field[j];
           } else if (coarse) {
-            v = ProlongVec(*coarse, *coarse_field, a, bb, c);
+            if (pbase == -2) pbase = coarse->node_map.Find(Pack(x >> 1, y >> 1, z >> 1));
+            v = ProlongVecAt(*coarse, *coarse_field, a, bb, c,
+                             NearCoarseIndex(*coarse, pbase, x >> 1, y >> 1, z >> 1, a, bb, c));
           } else {
             return;
           }
@@ -1386,8 +1407,8 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
       // +1 neighbours: when it is an unknown, its stencil row has their
       // indices, and unknowns read U (what ValueWith returns for them).
       const Level& C = At(d - 1);
-      auto block_coarse = [&](Memo& memo, int x, int y, int z) {
-        const int base = C.node_map.Find(Pack(x >> 1, y >> 1, z >> 1));
+      // base: the unknown index of the coarser node (x >> 1, y >> 1, z >> 1), or -1.
+      auto block_coarse_at = [&](Memo& memo, int x, int y, int z, int base) {
         return ParentSum<double>(x, y, z, [&](int a, int bb, int c) {
           if (base >= 0) {
             const int o = (a - (x >> 1) + 1) + 3 * (bb - (y >> 1) + 1) + 9 * (c - (z >> 1) + 1);
@@ -1399,8 +1420,10 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
       };
       ParallelFor(nn, [&](std::int64_t b0, std::int64_t e0) {
         Memo memo(lv_.size());
-        for (std::int64_t i = b0; i < e0; ++i)
-          P[i] = block_coarse(memo, KX(L.nodes[i]), KY(L.nodes[i]), KZ(L.nodes[i]));
+        for (std::int64_t i = b0; i < e0; ++i) {
+          const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
+          P[i] = block_coarse_at(memo, x, y, z, C.node_map.Find(Pack(x >> 1, y >> 1, z >> 1)));
+        }
       }, 4096);
       const ClassStencil kclass = StencilByClass(L.tent);
       ParallelFor(nn, [&](std::int64_t b0, std::int64_t e0) {
@@ -1408,9 +1431,16 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
         for (std::int64_t i = b0; i < e0; ++i) {
           const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
           const double* k = kclass[AxisClass(x, L.res) + 3 * AxisClass(y, L.res) + 9 * AxisClass(z, L.res)].data();
+          int pbase = -2;  // the coarser node (x >> 1, y >> 1, z >> 1)'s index, looked up when first needed
           double acc = 0;
           ForStencil(L, static_cast<std::size_t>(i), [&](int o, int a, int bb, int c, int j) {
-            const double pv = j >= 0 ? P[j] : block_coarse(memo, a, bb, c);
+            double pv;
+            if (j >= 0) {
+              pv = P[j];
+            } else {
+              if (pbase == -2) pbase = C.node_map.Find(Pack(x >> 1, y >> 1, z >> 1));
+              pv = block_coarse_at(memo, a, bb, c, NearCoarseIndex(C, pbase, x >> 1, y >> 1, z >> 1, a, bb, c));
+            }
             if (pv == 0) return;
             acc += pv * k[o];
           });
