@@ -59,6 +59,8 @@ inline int Oz(int o) { return o / 9 - 1; }
 // The tents' 1D factors depend on a node only through its class on each
 // axis: 0 on the low face, 1 inside, 2 on the high face (res >= 2).
 inline int AxisClass(int a, int res) { return a == 0 ? 0 : a == res ? 2 : 1; }
+// The node's row of StencilByClass: cx + 3 cy + 9 cz.
+inline int NodeClass(int x, int y, int z, int res) { return AxisClass(x, res) + 3 * AxisClass(y, res) + 9 * AxisClass(z, res); }
 struct TentByClass {
   double M[3][3], S[3][3], D[3][3];  // [class][offset + 1]
   explicit TentByClass(const Tent1D& t) {
@@ -145,17 +147,28 @@ inline int Parents1D(int a, int pc[2], double pw[2]) {
   return 2;
 }
 
-// The unknown index (or -1) of coarse node (a >> 1, b >> 1, c >> 1), for a
-// fine node (a, b, c) in the stencil of a fine node whose coarse node
-// (px, py, pz) has index pbase: the two coarse nodes are at most one apart
-// on each axis, so when pbase is an unknown its stencil row holds the index
-// (what node_map.Find gives, without the lookup); else the lookup.
-inline int NearCoarseIndex(const Level& C, int pbase, int px, int py, int pz, int a, int b, int c) {
-  if (pbase >= 0)
-    return C.nbr[static_cast<std::size_t>(pbase) * 27 + ((a >> 1) - px + 1) + 3 * ((b >> 1) - py + 1) +
-                 9 * ((c >> 1) - pz + 1)];
-  return C.node_map.Find(Pack(a >> 1, b >> 1, c >> 1));
-}
+// The coarser level's indices for one fine row (x, y, z): of coarse node
+// (a >> 1, b >> 1, c >> 1) for each fine node (a, b, c) of the row's
+// stencil. That node is at most one apart on each axis from the row's own
+// coarse node (x >> 1, y >> 1, z >> 1), so when the latter is an unknown
+// its stencil row holds the index (what node_map.Find gives, without the
+// lookup); it is looked up once, when first needed.
+class RowCoarse {
+ public:
+  RowCoarse(const Level& C, int x, int y, int z) : C_(C), px_(x >> 1), py_(y >> 1), pz_(z >> 1) {}
+  int Index(int a, int b, int c) {
+    if (base_ == -2) base_ = C_.node_map.Find(Pack(px_, py_, pz_));
+    if (base_ >= 0)
+      return C_.nbr[static_cast<std::size_t>(base_) * 27 + ((a >> 1) - px_ + 1) + 3 * ((b >> 1) - py_ + 1) +
+                    9 * ((c >> 1) - pz_ + 1)];
+    return C_.node_map.Find(Pack(a >> 1, b >> 1, c >> 1));
+  }
+
+ private:
+  const Level& C_;
+  int px_, py_, pz_;
+  int base_ = -2;  // not looked up yet
+};
 
 // Σ w · at(cx, cy, cz) over the coarse parents of fine node (x, y, z) (the
 // trilinear prolongation weights of Parents1D), z outermost, x innermost.
@@ -577,16 +590,14 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
       for (std::int64_t i = b0; i < e0; ++i) {
         const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
         const int cx = AxisClass(x, L.res), cy = AxisClass(y, L.res), cz = AxisClass(z, L.res);
-        int pbase = -2;  // the coarse node (x >> 1, y >> 1, z >> 1)'s index, looked up when first needed
+        RowCoarse row_coarse(coarse ? *coarse : L, x, y, z);
         double acc = 0;
         ForStencil(L, static_cast<std::size_t>(i), [&](int o, int a, int bb, int c, int j) {
           Vec3 v;
           if (j >= 0) {
             v = field[j];
           } else if (coarse) {
-            if (pbase == -2) pbase = coarse->node_map.Find(Pack(x >> 1, y >> 1, z >> 1));
-            v = ProlongVecAt(*coarse, *coarse_field, a, bb, c,
-                             NearCoarseIndex(*coarse, pbase, x >> 1, y >> 1, z >> 1, a, bb, c));
+            v = ProlongVecAt(*coarse, *coarse_field, a, bb, c, row_coarse.Index(a, bb, c));
           } else {
             return;
           }
@@ -662,7 +673,7 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
   auto stencil_row = [&](std::int64_t i) -> const double* {
     if (!L.on_face[i]) return kin.data();
     const Key k = L.nodes[i];
-    return kclass[AxisClass(KX(k), L.res) + 3 * AxisClass(KY(k), L.res) + 9 * AxisClass(KZ(k), L.res)].data();
+    return kclass[NodeClass(KX(k), KY(k), KZ(k), L.res)].data();
   };
   const bool complete = nn == std::int64_t(L.res + 1) * (L.res + 1) * (L.res + 1);  // nodes in x-fastest order
   std::array<std::ptrdiff_t, 27> off{};
@@ -1430,17 +1441,11 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
         Memo memo(lv_.size());
         for (std::int64_t i = b0; i < e0; ++i) {
           const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
-          const double* k = kclass[AxisClass(x, L.res) + 3 * AxisClass(y, L.res) + 9 * AxisClass(z, L.res)].data();
-          int pbase = -2;  // the coarser node (x >> 1, y >> 1, z >> 1)'s index, looked up when first needed
+          const double* k = kclass[NodeClass(x, y, z, L.res)].data();
+          RowCoarse row_coarse(C, x, y, z);
           double acc = 0;
           ForStencil(L, static_cast<std::size_t>(i), [&](int o, int a, int bb, int c, int j) {
-            double pv;
-            if (j >= 0) {
-              pv = P[j];
-            } else {
-              if (pbase == -2) pbase = C.node_map.Find(Pack(x >> 1, y >> 1, z >> 1));
-              pv = block_coarse_at(memo, a, bb, c, NearCoarseIndex(C, pbase, x >> 1, y >> 1, z >> 1, a, bb, c));
-            }
+            const double pv = j >= 0 ? P[j] : block_coarse_at(memo, a, bb, c, row_coarse.Index(a, bb, c));
             if (pv == 0) return;
             acc += pv * k[o];
           });

@@ -145,12 +145,9 @@ class NodeCache {
     std::size_t base = 0;
     for (std::size_t n = 0; n < keys.size(); ++n) {
       const Key k = keys[n];
-      const int x = KX(k), y = KY(k), z = KZ(k);
-      if (shift_ >= 0 && ((x | y | z) & ((1 << shift_) - 1)) == 0 && (x >> shift_) < n_ && (y >> shift_) < n_ &&
-          (z >> shift_) < n_) {
-        const std::size_t i = static_cast<std::size_t>((x >> shift_) + n_ * ((y >> shift_) + n_ * (z >> shift_)));
-        val_[i] = vals[n];
-        known_[i] = 1;
+      if (const std::int64_t d = DenseSlot(k); d >= 0) {
+        val_[static_cast<std::size_t>(d)] = vals[n];
+        known_[static_cast<std::size_t>(d)] = 1;
         continue;
       }
       const Key bk = BrickKey(k);
@@ -193,13 +190,18 @@ class NodeCache {
   static int Local(Key k) {
     return (KX(k) & kLow) | ((KY(k) & kLow) << kShift) | ((KZ(k) & kLow) << (2 * kShift));
   }
-  // The slot of node k, or -1 when its brick does not exist.
-  std::int64_t Slot(Key k) const {
+  // Node k's slot in the dense lattice, or -1 when it is not a lattice node.
+  std::int64_t DenseSlot(Key k) const {
     const int x = KX(k), y = KY(k), z = KZ(k);
     if (shift_ >= 0 && ((x | y | z) & ((1 << shift_) - 1)) == 0) {
       const std::int64_t a = x >> shift_, b = y >> shift_, c = z >> shift_;
       if (a < n_ && b < n_ && c < n_) return a + n_ * (b + n_ * c);
     }
+    return -1;
+  }
+  // The slot of node k, or -1 when its brick does not exist.
+  std::int64_t Slot(Key k) const {
+    if (const std::int64_t d = DenseSlot(k); d >= 0) return d;
     const int b = bricks_.Find(BrickKey(k));
     if (b < 0) return -1;
     return static_cast<std::int64_t>(dense_) + static_cast<std::int64_t>(b) * kCount + Local(k);
