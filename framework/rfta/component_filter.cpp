@@ -32,20 +32,22 @@ ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samp
     radii[i] = std::abs(samples.values[i]);
     ids[i] = static_cast<int>(i);
   }
+  std::vector<int> nverts(nc, 0), ninside(nc, 0), nfaces(nc, 0);
+  for (int f = 0; f < nf; ++f) ++nfaces[face_comp[f]];
+  const int largest = static_cast<int>(std::max_element(nfaces.begin(), nfaces.end()) - nfaces.begin());
+  // The largest component is never a candidate, so its vertices (most of
+  // the mesh) need no containment test.
   const SphereTree tree(centers, radii, ids);
   std::vector<char> inside(nv, 0);
   ParallelFor(nv, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t v = b; v < e; ++v)
-      if (comp[v] >= 0) inside[v] = tree.AnyContains(mesh->V.row(v).transpose(), -tol, -1);
+      if (comp[v] >= 0 && comp[v] != largest) inside[v] = tree.AnyContains(mesh->V.row(v).transpose(), -tol, -1);
   });
-  std::vector<int> nverts(nc, 0), ninside(nc, 0), nfaces(nc, 0);
   for (int v = 0; v < nv; ++v) {
     if (comp[v] < 0) continue;
     ++nverts[comp[v]];
     ninside[comp[v]] += inside[v];
   }
-  for (int f = 0; f < nf; ++f) ++nfaces[face_comp[f]];
-  const int largest = static_cast<int>(std::max_element(nfaces.begin(), nfaces.end()) - nfaces.begin());
   std::vector<int> candidates;
   for (int c = 0; c < nc; ++c)
     if (c != largest && ninside[c] > max_inside_fraction * nverts[c]) candidates.push_back(c);
