@@ -117,6 +117,12 @@ void SphereTree::Build(std::vector<std::int32_t>& order, std::int32_t begin, std
       alpha = std::max(alpha, R[order[k]] - beta.dot(C.row(order[k]).transpose()));
     for (int a = 0; a < 3; ++a) node.beta[a] = beta[a];
     node.alpha = alpha;
+    node.k = alpha;
+    for (int a = 0; a < 3; ++a) {
+      node.mid[a] = 0.5 * (node.lo[a] + node.hi[a]);
+      node.half[a] = 0.5 * (node.hi[a] - node.lo[a]) * (1.0 + 1e-12) + 1e-300;
+      node.k += beta[a] * node.mid[a];
+    }
   }
   node.begin = begin;
   const std::int32_t n = end - begin;
@@ -177,19 +183,22 @@ inline double BallDist2(const SphereTree::Ball& b, const Vec3& x) {
 double SphereTree::LowerBound(const Node& n, const Vec3& x, double scale, double cut) const {
   const double box = std::sqrt(BoxDist2(n, x)) - scale * n.rmax;
   if (box >= cut) return box;  // the larger bound is >= cut as well
-  // |x - c| - s r >= |x - c| - s (alpha + beta . c) = |v| - s beta . v - s beta . x - s alpha
-  // with v = c - x, and |v| >= u . v for the unit u toward the box centre:
-  // >= min over the box of (u - s beta) . v  - s (beta . x + alpha).
-  Vec3 u(0.5 * (n.lo[0] + n.hi[0]) - x[0], 0.5 * (n.lo[1] + n.hi[1]) - x[1], 0.5 * (n.lo[2] + n.hi[2]) - x[2]);
-  const double un = u.norm();
-  if (!(un > 0.0)) return box;
-  u /= un;
-  double lin = -scale * (n.beta[0] * x[0] + n.beta[1] * x[1] + n.beta[2] * x[2] + n.alpha);
-  for (int a = 0; a < 3; ++a) {
-    const double d = u[a] - scale * n.beta[a];
-    lin += d * ((d >= 0.0 ? n.lo[a] : n.hi[a]) - x[a]);
-  }
-  return std::max(box, lin);
+  // With r <= alpha + beta . c over the node and |v| >= u . v for v = c - x
+  // and the unit u = w / |w| toward the box centre m (w = m - x):
+  //   |x - c| - s r >= (u - s beta) . v - s (beta . x + alpha),
+  // whose minimum over the box (half sides h) is
+  //   (u - s beta) . w - sum_a |u_a - s beta_a| h_a - s (beta . x + alpha)
+  //   = |w| - s (beta . m + alpha) - sum_a |w_a - s |w| beta_a| h_a / |w|.
+  const double w[3] = {n.mid[0] - x[0], n.mid[1] - x[1], n.mid[2] - x[2]};
+  const double wn = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  if (!(wn > 0.0)) return box;
+  const double sw = scale * wn;
+  const double spread = std::abs(w[0] - sw * n.beta[0]) * n.half[0] + std::abs(w[1] - sw * n.beta[1]) * n.half[1] +
+                        std::abs(w[2] - sw * n.beta[2]) * n.half[2];
+  const double sk = scale * n.k;
+  const double lin = wn - sk - spread / wn;
+  // Rounding: a relative 1e-12 of the terms keeps the bound below the exact one.
+  return std::max(box, lin - 1e-12 * (wn + std::abs(sk) + spread / wn));
 }
 
 double SphereTree::OffsetBound(const Node& n, const Vec3& x, double offset) const {

@@ -114,6 +114,11 @@ class SphereTree {
     // than rmax near the surface, where thousands of balls are almost tangent.
     double beta[3];
     double alpha;
+    // The centres' box as centre and half sides (widened by a relative
+    // 1e-12, so the box they span holds [lo, hi] despite rounding), and
+    // k = beta . mid + alpha: LowerBound's affine term in one division.
+    double mid[3], half[3];
+    double k;
     std::int32_t begin;   // first ball (tree order)
     std::int32_t count;   // > 0: leaf with `count` balls; 0: inner node
     std::int32_t right;   // inner node: index of the right child (left = this + 1)
