@@ -116,7 +116,6 @@ void SphereTree::Build(std::vector<std::int32_t>& order, std::int32_t begin, std
     for (std::int32_t k = begin; k < end; ++k)
       alpha = std::max(alpha, R[order[k]] - beta.dot(C.row(order[k]).transpose()));
     for (int a = 0; a < 3; ++a) node.beta[a] = beta[a];
-    node.alpha = alpha;
     node.k = alpha;
     for (int a = 0; a < 3; ++a) {
       node.mid[a] = 0.5 * (node.lo[a] + node.hi[a]);

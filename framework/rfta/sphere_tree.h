@@ -112,13 +112,13 @@ class SphereTree {
     // fitted by least squares). SDF radii are nearly affine in the centre
     // over a small region (|grad| = 1), which makes this bound much tighter
     // than rmax near the surface, where thousands of balls are almost tangent.
+    // Stored as beta and k = beta . mid + alpha (LowerBound's affine term
+    // needs alpha only there), with the centres' box as centre and half
+    // sides (widened by a relative 1e-12, so the box they span holds
+    // [lo, hi] despite rounding).
     double beta[3];
-    double alpha;
-    // The centres' box as centre and half sides (widened by a relative
-    // 1e-12, so the box they span holds [lo, hi] despite rounding), and
-    // k = beta . mid + alpha: LowerBound's affine term in one division.
-    double mid[3], half[3];
     double k;
+    double mid[3], half[3];
     std::int32_t begin;   // first ball (tree order)
     std::int32_t count;   // > 0: leaf with `count` balls; 0: inner node
     std::int32_t right;   // inner node: index of the right child (left = this + 1)
