@@ -38,6 +38,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -247,7 +248,16 @@ struct TriangleBvh::Impl {
     }
   };
   Moments TriMoments(int t) const;
-  void FitOrientedBox(const Moments& mo, int begin, int end, Node4* node, int j) const;
+  // Each leaf's distinct triangle corners, relative to `origin`, in leaf
+  // order (structure of arrays); the corners of triangles [t, e) for leaf
+  // boundaries t, e are [corner_start[t], corner_start[e]). Only the
+  // oriented fit reads them (a node's extents over its corners); a corner
+  // shared by a leaf's triangles is projected once.
+  struct Corners {
+    std::vector<double> x, y, z;
+    std::vector<std::int32_t> start;  // per triangle; set at leaf starts and at #triangles
+  };
+  void FitOrientedBox(const Moments& mo, const Corners& corners, int begin, int end, Node4* node, int j) const;
   // Lexicographic minimum of (sq_dist, face) over faces with sq_dist <=
   // max_sq; face -1 when none.
   // `tri` (optional) receives the internal (leaf-order) triangle index.
@@ -726,6 +736,37 @@ void TriangleBvh::Impl::Build() {
     }
   };
   std::vector<Moments> mom;
+  Corners corners;
+  auto leaf_corners = [&] {
+    // Leaves in triangle order: the one starting at t holds leaf_count[t].
+    std::vector<std::int32_t> leaf_count(nf, 0);
+    for (int i = 0; i < nb; ++i)
+      if (bin[i].count > 0) leaf_count[bin[i].first] = bin[i].count;
+    corners.start.assign(static_cast<std::size_t>(nf) + 1, 0);
+    corners.x.reserve(static_cast<std::size_t>(nf) * 3 / 2);
+    corners.y.reserve(static_cast<std::size_t>(nf) * 3 / 2);
+    corners.z.reserve(static_cast<std::size_t>(nf) * 3 / 2);
+    for (int t = 0; t < nf;) {
+      const int n = leaf_count[t];
+      if (n <= 0) throw std::logic_error("TriangleBvh: the leaves do not partition the triangles");
+      const std::size_t first = corners.x.size();
+      corners.start[t] = static_cast<std::int32_t>(first);
+      for (int u = t; u < t + n; ++u) {
+        for (const double* v : {tris[u].a, tris[u].b, tris[u].c}) {
+          const double p[3] = {v[0] - origin[0], v[1] - origin[1], v[2] - origin[2]};
+          bool seen = false;
+          for (std::size_t k = first; k < corners.x.size() && !seen; ++k)
+            seen = corners.x[k] == p[0] && corners.y[k] == p[1] && corners.z[k] == p[2];
+          if (seen) continue;
+          corners.x.push_back(p[0]);
+          corners.y.push_back(p[1]);
+          corners.z.push_back(p[2]);
+        }
+      }
+      t += n;
+    }
+    corners.start[nf] = static_cast<std::int32_t>(corners.x.size());
+  };
   auto moments = [&] {
     // Each binary node's moments: the leaves' from their triangles, an inner
     // node's as the sum of its children's (children have larger indices).
@@ -756,10 +797,14 @@ void TriangleBvh::Impl::Build() {
     }
     return;
   }
-  ParallelInvoke(collapse, moments);
+  ParallelInvoke(collapse, [&] {
+    moments();
+    leaf_corners();
+  });
   ParallelFor(static_cast<std::int64_t>(fits.size()), [&](std::int64_t b0, std::int64_t e0) {
     for (std::int64_t k = b0; k < e0; ++k)
-      FitOrientedBox(mom[fits[k].bnode], fits[k].begin, fits[k].end, &nodes[fits[k].node4], fits[k].slot);
+      FitOrientedBox(mom[fits[k].bnode], corners, fits[k].begin, fits[k].end, &nodes[fits[k].node4],
+                     fits[k].slot);
   }, 64);
 }
 
@@ -781,7 +826,8 @@ TriangleBvh::Impl::Moments TriangleBvh::Impl::TriMoments(int t) const {
   return mo;
 }
 
-void TriangleBvh::Impl::FitOrientedBox(const Moments& mo, int begin, int end, Node4* nd, int j) const {
+void TriangleBvh::Impl::FitOrientedBox(const Moments& mo, const Corners& corners, int begin, int end, Node4* nd,
+                                       int j) const {
   // The frame: the mean area normal (thin extent for a gently curved patch)
   // and the in-plane direction of largest spread, from the moments. Any
   // orthonormal frame gives a true bound (the extents below are exact for
@@ -802,29 +848,63 @@ void TriangleBvh::Impl::FitOrientedBox(const Moments& mo, int begin, int end, No
     if (!(n.norm() > 0.5)) n = Vec3::UnitX();
     n.normalize();
   }
-  const Eigen::Matrix3d P = Eigen::Matrix3d::Identity() - n * n.transpose();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-  es.computeDirect(P * cov * P);
-  Vec3 t1 = es.eigenvectors().col(2);
+  // The in-plane direction of largest spread: the principal axis of the
+  // 2 x 2 form [a b; b c] of cov in a basis (e1, e2) of the plane, at angle
+  // atan2(2b, a - c) / 2 from e1.
+  const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+  const Vec3 ce1 = cov * e1, ce2 = cov * e2;
+  const double a = e1.dot(ce1), b = e1.dot(ce2), cc = e2.dot(ce2);
+  const double theta = 0.5 * std::atan2(2.0 * b, a - cc);
+  Vec3 t1 = std::isfinite(theta) ? Vec3(std::cos(theta) * e1 + std::sin(theta) * e2) : e1;
   t1 -= n * n.dot(t1);
-  if (!(t1.norm() > 1e-6)) t1 = n.unitOrthogonal();
+  if (!(t1.norm() > 1e-6)) t1 = e1;
   t1.normalize();
   const Vec3 axes[3] = {n, t1, n.cross(t1)};
   // The frame is stored in float; extents are exact (in double) for the
-  // float frame, then rounded outward. One pass over the corners.
+  // float frame, then rounded outward. One pass over the leaves' distinct
+  // corners (the same extremes as over every triangle's corners).
   double r[3][3];
   for (int k = 0; k < 3; ++k)
     for (int i = 0; i < 3; ++i) r[k][i] = nd->rot[3 * k + i][j] = static_cast<float>(axes[k][i]);
   double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-  for (int t = begin; t < end; ++t) {
-    const Tri& tr = tris[t];
-    for (const double* v : {tr.a, tr.b, tr.c}) {
-      const double p[3] = {v[0] - origin[0], v[1] - origin[1], v[2] - origin[2]};
+  const double* cx = corners.x.data();
+  const double* cy = corners.y.data();
+  const double* cz = corners.z.data();
+  int v = corners.start[begin];
+  const int vend = corners.start[end];
+#if defined(__SSE2__)
+  // Two corners per step, each projection the scalar one's (r0 p0 + r1 p1) + r2 p2.
+  if (vend - v >= 2) {
+    __m128d l[3], h[3], rv[3][3];
+    for (int k = 0; k < 3; ++k) {
+      l[k] = _mm_set1_pd(INFINITY);
+      h[k] = _mm_set1_pd(-INFINITY);
+      for (int i = 0; i < 3; ++i) rv[k][i] = _mm_set1_pd(r[k][i]);
+    }
+    for (; v + 2 <= vend; v += 2) {
+      const __m128d px = _mm_loadu_pd(cx + v), py = _mm_loadu_pd(cy + v), pz = _mm_loadu_pd(cz + v);
       for (int k = 0; k < 3; ++k) {
-        const double d = r[k][0] * p[0] + r[k][1] * p[1] + r[k][2] * p[2];
-        lo[k] = std::min(lo[k], d);
-        hi[k] = std::max(hi[k], d);
+        const __m128d d =
+            _mm_add_pd(_mm_add_pd(_mm_mul_pd(rv[k][0], px), _mm_mul_pd(rv[k][1], py)), _mm_mul_pd(rv[k][2], pz));
+        l[k] = _mm_min_pd(l[k], d);
+        h[k] = _mm_max_pd(h[k], d);
       }
+    }
+    for (int k = 0; k < 3; ++k) {
+      alignas(16) double a[2], b[2];
+      _mm_store_pd(a, l[k]);
+      _mm_store_pd(b, h[k]);
+      lo[k] = std::min(a[0], a[1]);
+      hi[k] = std::max(b[0], b[1]);
+    }
+  }
+#endif
+  for (; v < vend; ++v) {
+    const double p[3] = {cx[v], cy[v], cz[v]};
+    for (int k = 0; k < 3; ++k) {
+      const double d = r[k][0] * p[0] + r[k][1] * p[1] + r[k][2] * p[2];
+      lo[k] = std::min(lo[k], d);
+      hi[k] = std::max(hi[k], d);
     }
   }
   for (int k = 0; k < 3; ++k) {
