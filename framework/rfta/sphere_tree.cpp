@@ -357,9 +357,12 @@ void SphereTree::DeepestContaining(const Vec3& x, double offset, int k, int igno
       }
       continue;
     }
+    // A child whose box bound alone reaches the threshold is pruned when
+    // popped (the threshold only falls), so its affine bound is not needed.
     const std::int32_t l = ni + 1, r = n.right;
-    const double bl = LowerBound(nodes_[l], x, 1.0);
-    const double br = LowerBound(nodes_[r], x, 1.0);
+    const double cut = threshold();
+    const double bl = LowerBound(nodes_[l], x, 1.0, cut);
+    const double br = LowerBound(nodes_[r], x, 1.0, cut);
     if (bl <= br) {
       stack[sp++] = {r, br};
       stack[sp++] = {l, bl};
