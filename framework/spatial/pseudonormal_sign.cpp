@@ -41,7 +41,6 @@ PseudonormalSign::PseudonormalSign(const Mesh& mesh) : mesh_(&mesh) {
     for (int f = 0; f < nf; ++f)
       for (int k = 0; k < 3; ++k) out[fill[mesh.F(f, k)]++] = 3 * f + k;
   }
-  auto from = [&](int h) { return mesh.F(h / 3, h % 3); };
   auto to = [&](int h) { return mesh.F(h / 3, (h % 3 + 1) % 3); };
   // The far end of each listed half-edge, beside the list: the twin search
   // below scans these contiguously instead of reading faces all over F.
@@ -51,23 +50,28 @@ PseudonormalSign::PseudonormalSign(const Mesh& mesh) : mesh_(&mesh) {
   }, 8192);
   // The twin of a -> b is the one b -> a; closed: exactly one, and no second a -> b.
   twin_of_.assign(static_cast<std::size_t>(nf) * 3, -1);
+  // By vertex a: its own list (the a -> c half-edges and the duplicates
+  // test) is read in order, only c's list is looked up.
   std::atomic<bool> closed{nf > 0};
-  ParallelFor(static_cast<std::int64_t>(nf) * 3, [&](std::int64_t b, std::int64_t e) {
+  ParallelFor(nv, [&](std::int64_t b, std::int64_t e) {
     bool ok = true;
-    for (std::int64_t hh = b; hh < e; ++hh) {
-      const int h = static_cast<int>(hh), a = from(h), c = to(h);
-      int twins = 0, same = 0, twin = -1;
-      for (int j = start[c]; j < start[c + 1]; ++j)
-        if (out_to[j] == a) ++twins, twin = out[j];
-      for (int j = start[a]; j < start[a + 1]; ++j) same += out_to[j] == c;
-      if (twins != 1 || same != 1 || a == c) {
-        ok = false;
-        continue;
+    for (std::int64_t aa = b; aa < e; ++aa) {
+      const int a = static_cast<int>(aa);
+      for (int i = start[a]; i < start[a + 1]; ++i) {
+        const int h = out[i], c = out_to[i];
+        int twins = 0, same = 0, twin = -1;
+        for (int j = start[c]; j < start[c + 1]; ++j)
+          if (out_to[j] == a) ++twins, twin = out[j];
+        for (int j = start[a]; j < start[a + 1]; ++j) same += out_to[j] == c;
+        if (twins != 1 || same != 1 || a == c) {
+          ok = false;
+          continue;
+        }
+        twin_of_[h] = twin;
       }
-      twin_of_[h] = twin;
     }
     if (!ok) closed = false;
-  }, 4096);
+  }, 2048);
   closed_ = closed;
 }
 
