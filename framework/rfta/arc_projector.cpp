@@ -12,6 +12,10 @@
 #include <numeric>
 #include <string>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace arcs {
 namespace {
 
@@ -106,6 +110,73 @@ inline int TrilaterateWith(const TrilaterationBase& b, const Vec3& p1, double r1
   out[0] = base + z * ez;
   out[1] = base - z * ez;
   return 2;
+}
+// TrilaterateWith for two first-pair frames at once (b[0] with radius r2[0],
+// b[1] with r2[1]; the same p1, r1, p3, r3): out[k] and n[k] are exactly
+// what TrilaterateWith(b[k], p1, r1, r2[k], p3, r3, out[k]) gives. Each
+// SSE2 lane does the scalar form's operations in its order (Eigen's dot and
+// squared norm sum left to right, (v0 + v1) + v2), and packed division and
+// square root round as the scalar ones do. Alg. 2's pair loop is bound by
+// these divisions and roots.
+inline void TrilaterateWith2(const TrilaterationBase* const b[2], const Vec3& p1, double r1, const double r2[2],
+                             const Vec3& p3, double r3, Vec3 out[2][2], int n[2]) {
+#if defined(__SSE2__)
+  bool live[2];
+  for (int k = 0; k < 2; ++k) live[k] = b[k]->d > 1e-12 * std::max({r1, r2[k], r3});
+  if (!live[0] && !live[1]) {
+    n[0] = n[1] = 0;
+    return;
+  }
+  auto pair = [](double lo, double hi) { return _mm_set_pd(hi, lo); };
+  const Vec3 t = p3 - p1;
+  __m128d ex[3];
+  for (int a = 0; a < 3; ++a) ex[a] = pair(b[0]->ex[a], b[1]->ex[a]);
+  const __m128d t0 = _mm_set1_pd(t[0]), t1 = _mm_set1_pd(t[1]), t2 = _mm_set1_pd(t[2]);
+  const __m128d i = _mm_add_pd(_mm_add_pd(_mm_mul_pd(ex[0], t0), _mm_mul_pd(ex[1], t1)), _mm_mul_pd(ex[2], t2));
+  __m128d ey[3] = {_mm_sub_pd(t0, _mm_mul_pd(i, ex[0])), _mm_sub_pd(t1, _mm_mul_pd(i, ex[1])),
+                   _mm_sub_pd(t2, _mm_mul_pd(i, ex[2]))};
+  const __m128d j = _mm_sqrt_pd(_mm_add_pd(_mm_add_pd(_mm_mul_pd(ey[0], ey[0]), _mm_mul_pd(ey[1], ey[1])),
+                                           _mm_mul_pd(ey[2], ey[2])));
+  for (int a = 0; a < 3; ++a) ey[a] = _mm_div_pd(ey[a], j);
+  const __m128d ez[3] = {_mm_sub_pd(_mm_mul_pd(ex[1], ey[2]), _mm_mul_pd(ex[2], ey[1])),
+                         _mm_sub_pd(_mm_mul_pd(ex[2], ey[0]), _mm_mul_pd(ex[0], ey[2])),
+                         _mm_sub_pd(_mm_mul_pd(ex[0], ey[1]), _mm_mul_pd(ex[1], ey[0]))};
+  const __m128d x = pair(b[0]->x, b[1]->x);
+  const __m128d r1s = _mm_set1_pd(r1 * r1), r3s = _mm_set1_pd(r3 * r3);
+  const __m128d y = _mm_sub_pd(
+      _mm_div_pd(_mm_add_pd(_mm_add_pd(_mm_sub_pd(r1s, r3s), _mm_mul_pd(i, i)), _mm_mul_pd(j, j)),
+                 _mm_mul_pd(_mm_set1_pd(2.0), j)),
+      _mm_mul_pd(_mm_div_pd(i, j), x));
+  __m128d z2 = _mm_sub_pd(_mm_sub_pd(r1s, _mm_mul_pd(x, x)), _mm_mul_pd(y, y));
+  alignas(16) double jv[2], z2v[2];
+  _mm_store_pd(jv, j);
+  _mm_store_pd(z2v, z2);
+  for (int k = 0; k < 2; ++k) {
+    const double scale = std::max({r1, r2[k], r3});
+    live[k] = live[k] && jv[k] > 1e-12 * scale && !(z2v[k] < 0.0 && z2v[k] < -1e-12 * r1 * r1);
+  }
+  if (!live[0] && !live[1]) {
+    n[0] = n[1] = 0;
+    return;
+  }
+  z2 = _mm_andnot_pd(_mm_cmplt_pd(z2, _mm_setzero_pd()), z2);  // tangent within rounding: 0
+  const __m128d z = _mm_sqrt_pd(z2);
+  alignas(16) double lo[3][2], hi[3][2];
+  for (int a = 0; a < 3; ++a) {
+    const __m128d base = _mm_add_pd(_mm_add_pd(_mm_set1_pd(p1[a]), _mm_mul_pd(x, ex[a])), _mm_mul_pd(y, ey[a]));
+    const __m128d zz = _mm_mul_pd(z, ez[a]);
+    _mm_store_pd(lo[a], _mm_add_pd(base, zz));
+    _mm_store_pd(hi[a], _mm_sub_pd(base, zz));
+  }
+  for (int k = 0; k < 2; ++k) {
+    n[k] = live[k] ? 2 : 0;
+    if (!live[k]) continue;
+    out[k][0] = Vec3(lo[0][k], lo[1][k], lo[2][k]);
+    out[k][1] = Vec3(hi[0][k], hi[1][k], hi[2][k]);
+  }
+#else
+  for (int k = 0; k < 2; ++k) n[k] = TrilaterateWith(*b[k], p1, r1, r2[k], p3, r3, out[k]);
+#endif
 }
 int Trilaterate(const Vec3& p1, double r1, const Vec3& p2, double r2, const Vec3& p3, double r3,
                 Vec3 out[2]) {
@@ -292,7 +363,19 @@ bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, 
         offer(q[near[bi].second], kb, -1);
         const Vec3 cb = center(kb);
         const double rb = tree.ball(kb).r;
-        for (std::size_t ai = 0; ai < bi; ++ai) {
+        // Two pairs at a time, offered in the same order as one by one.
+        std::size_t ai = 0;
+        for (; ai + 2 <= bi; ai += 2) {
+          const int ka[2] = {found[near[ai].second], found[near[ai + 1].second]};
+          const TrilaterationBase* const bases[2] = {&base[ai], &base[ai + 1]};
+          const double ra[2] = {tree.ball(ka[0]).r, tree.ball(ka[1]).r};
+          Vec3 two[2][2];
+          int n2[2];
+          TrilaterateWith2(bases, c, r, ra, cb, rb, two, n2);
+          for (int k = 0; k < 2; ++k)
+            for (int t = 0; t < n2[k]; ++t) offer(two[k][t], ka[k], kb);
+        }
+        for (; ai < bi; ++ai) {
           const int ka = found[near[ai].second];
           const int n = TrilaterateWith(base[ai], c, r, tree.ball(ka).r, cb, rb, pts);
           for (int t = 0; t < n; ++t) offer(pts[t], ka, kb);
