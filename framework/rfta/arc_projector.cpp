@@ -1,8 +1,7 @@
 #include "framework/rfta/arc_projector.h"
 
-#include "framework/rfta/trilateration.h"
-
 #include "framework/error.h"
+#include "framework/rfta/trilateration.h"
 #include "framework/spatial/knn.h"
 #include "framework/util/parallel.h"
 
@@ -64,7 +63,6 @@ int SphereSpherePoints(const Vec3& ci, double ri, const Vec3& cj, double rj, con
   out[0] = m + h * w;
   return 1;
 }
-
 
 // Whether |v| < R, decided as (v.norm() < R) decides it: norm() is the
 // correctly rounded square root of squaredNorm(), so away from R^2 the

@@ -75,7 +75,11 @@ inline void TrilaterateWith2(const TrilaterationBase* const b[2], const Vec3& p1
                              const Vec3& p3, double r3, Vec3 out[2][2], int n[2]) {
 #if defined(__SSE2__)
   bool live[2];
-  for (int k = 0; k < 2; ++k) live[k] = b[k]->d > 1e-12 * std::max({r1, r2[k], r3});
+  double scale[2];
+  for (int k = 0; k < 2; ++k) {
+    scale[k] = std::max({r1, r2[k], r3});
+    live[k] = b[k]->d > 1e-12 * scale[k];
+  }
   if (!live[0] && !live[1]) {
     n[0] = n[1] = 0;
     return;
@@ -104,10 +108,8 @@ inline void TrilaterateWith2(const TrilaterationBase* const b[2], const Vec3& p1
   alignas(16) double jv[2], z2v[2];
   _mm_store_pd(jv, j);
   _mm_store_pd(z2v, z2);
-  for (int k = 0; k < 2; ++k) {
-    const double scale = std::max({r1, r2[k], r3});
-    live[k] = live[k] && jv[k] > 1e-12 * scale && !(z2v[k] < 0.0 && z2v[k] < -1e-12 * r1 * r1);
-  }
+  for (int k = 0; k < 2; ++k)
+    live[k] = live[k] && jv[k] > 1e-12 * scale[k] && !(z2v[k] < 0.0 && z2v[k] < -1e-12 * r1 * r1);
   if (!live[0] && !live[1]) {
     n[0] = n[1] = 0;
     return;
