@@ -250,7 +250,7 @@ struct TriangleBvh::Impl {
   Moments TriMoments(int t) const;
   // Each leaf's distinct triangle corners, relative to `origin`, in leaf
   // order (structure of arrays); the corners of triangles [t, e) for leaf
-  // boundaries t, e are [corner_start[t], corner_start[e]). Only the
+  // boundaries t, e are [start[t], start[e]). Only the
   // oriented fit reads them (a node's extents over its corners); a corner
   // shared by a leaf's triangles is projected once.
   struct Corners {
