@@ -307,6 +307,9 @@ int Figure14(const Registry& registry, int nmax) {
     std::printf("%5d %9.0f | %8.2f %8.2f %9.2f %8.2f | %8.2f %9.0f | %9.2f %7.3f | %9.5f %9.5f\n", n, n3, o.sampler_s,
                 o.projector_s, o.fine_tune_s, o.final_s, total, peak_mb, ref.first, total / ref.first, chamfer,
                 ref.second);
+    if (!ViaRegistry())
+      std::printf("%5s fine-tuning: solves %.2f s, queries %.2f s, updates %.2f s; %lld points at the end\n", "",
+                  o.psr_s, o.query_s, o.update_s, static_cast<long long>(o.points));
     std::fflush(stdout);
   }
   return 0;

@@ -381,6 +381,7 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
     so.normal_splat = options.normal_splat;
     so.density_scale = options.density_scale;
     so.iso_weight = options.iso_weight;
+    so.screen_samples = options.screen_samples;
     std::shared_ptr<SpsrWarmStart> state;
     const bool use_warm = warm && options.warm_start;
     if (use_warm) state = std::static_pointer_cast<SpsrWarmStart>(*warm);

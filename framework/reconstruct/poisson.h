@@ -112,6 +112,7 @@ struct PoissonOptions {
   SpsrOptions::NormalSplat normal_splat = SpsrOptions::NormalSplat::kSplit;
   double density_scale = 1.0;
   SpsrOptions::IsoWeight iso_weight = SpsrOptions::IsoWeight::kArea;
+  SpsrOptions::ScreenSamples screen_samples = SpsrOptions::ScreenSamples::kEach;
   // false: point_weight is PCL's own number (PCL divides it by the point
   // count: per-point screening w * 2^d / N). true: it means what
   // PoissonRecon 16/18's --pointWeight means (the official RFTA passes 10):
@@ -143,6 +144,9 @@ inline constexpr EnumName<SpsrOptions::NormalSplat> kSpsrNormalSplatNames[] = {
 inline constexpr EnumName<SpsrOptions::IsoWeight> kSpsrIsoWeightNames[] = {
     {SpsrOptions::IsoWeight::kArea, "area"},
     {SpsrOptions::IsoWeight::kCount, "count"}};
+inline constexpr EnumName<SpsrOptions::ScreenSamples> kSpsrScreenSamplesNames[] = {
+    {SpsrOptions::ScreenSamples::kEach, "each"},
+    {SpsrOptions::ScreenSamples::kMerged, "merged"}};
 
 // The screened_poisson stage's `fine_solver` names.
 inline constexpr EnumName<SpsrOptions::FineSolver> kSpsrFineSolverNames[] = {

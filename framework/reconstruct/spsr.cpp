@@ -102,6 +102,15 @@ struct Level {
   std::vector<int> s_idx;
   std::vector<std::array<int, 8>> s_corner;
   std::vector<std::array<double, 8>> s_w;
+  // With SpsrOptions::ScreenSamples::kMerged, the points that screen this
+  // level: one per cell holding samples, at their mean (m_pos), its corner
+  // unknowns, and its trilinear weights times sqrt(count), so that the
+  // screening term count * χ(mean)^2 has the form of a sample's. Empty with
+  // kEach: the samples above screen.
+  std::vector<Vec3> m_pos;
+  std::vector<double> m_count;
+  std::vector<std::array<int, 8>> m_corner;
+  std::vector<std::array<double, 8>> m_w;
   std::vector<double> x, U;  // own coefficients; accumulated solution χ_{<=d} at the nodes
 };
 
@@ -199,7 +208,8 @@ struct CoarseGrid {
   std::vector<double> coef;  // 27 per node
   int N() const { return (res + 1) * (res + 1) * (res + 1); }
   int Idx(int x, int y, int z) const { return x + (res + 1) * (y + (res + 1) * z); }
-  void Build(int level, const std::vector<Vec3>& pts, const std::vector<int>& screened, double beta) {
+  // pts: the screening points; count: their weights (null: 1 each).
+  void Build(int level, const std::vector<Vec3>& pts, const std::vector<double>* count, double beta) {
     res = 1 << level;
     const Tent1D t{1.0 / res, res};
     coef.assign(static_cast<std::size_t>(N()) * 27, 0.0);
@@ -215,16 +225,17 @@ struct CoarseGrid {
           }
         }
     if (beta <= 0) return;
-    for (int s : screened) {
+    for (std::size_t s = 0; s < pts.size(); ++s) {
       int c[3];
       double w[8];
       CellOf(pts[s], res, c, w);
+      const double bc = count ? beta * (*count)[s] : beta;
       for (int q1 = 0; q1 < 8; ++q1) {
         const int i = Idx(c[0] + (q1 & 1), c[1] + ((q1 >> 1) & 1), c[2] + ((q1 >> 2) & 1));
         for (int q2 = 0; q2 < 8; ++q2) {
           const int o = ((q2 & 1) - (q1 & 1) + 1) + 3 * (((q2 >> 1) & 1) - ((q1 >> 1) & 1) + 1) +
                         9 * (((q2 >> 2) & 1) - ((q1 >> 2) & 1) + 1);
-          coef[static_cast<std::size_t>(i) * 27 + o] += beta * w[q1] * w[q2];
+          coef[static_cast<std::size_t>(i) * 27 + o] += bc * w[q1] * w[q2];
         }
       }
     }
@@ -523,6 +534,39 @@ void Solver::BuildTree() {
       L.s_corner.push_back(cor);
       L.s_w.push_back(ww);
     }
+    if (o_.screen_samples == SpsrOptions::ScreenSamples::kMerged) {
+      // The samples by cell (ties by index: a fixed order for the sums).
+      std::vector<std::pair<Key, int>> by_cell(L.s_idx.size());
+      for (std::size_t t = 0; t < L.s_idx.size(); ++t) {
+        int c[3];
+        double w[8];
+        CellOf(p_[L.s_idx[t]], L.res, c, w);
+        by_cell[t] = {Pack(c[0], c[1], c[2]), static_cast<int>(t)};
+      }
+      std::sort(by_cell.begin(), by_cell.end());
+      for (std::size_t b = 0; b < by_cell.size();) {
+        std::size_t e = b;
+        Vec3 sum = Vec3::Zero();
+        for (; e < by_cell.size() && by_cell[e].first == by_cell[b].first; ++e) sum += p_[L.s_idx[by_cell[e].second]];
+        const double count = static_cast<double>(e - b);
+        const Vec3 mean = sum / count;
+        // The mean lies in the samples' cell; its weights there (clamped
+        // against rounding at the cell's faces).
+        const Key ck = by_cell[b].first;
+        const int c[3] = {KX(ck), KY(ck), KZ(ck)};
+        double t[3];
+        for (int a = 0; a < 3; ++a) t[a] = std::clamp(mean[a] * L.res - c[a], 0.0, 1.0);
+        const double root = std::sqrt(count);
+        std::array<double, 8> ww;
+        for (int q = 0; q < 8; ++q)
+          ww[q] = root * ((q & 1) ? t[0] : 1 - t[0]) * ((q & 2) ? t[1] : 1 - t[1]) * ((q & 4) ? t[2] : 1 - t[2]);
+        L.m_pos.push_back(mean);
+        L.m_count.push_back(count);
+        L.m_corner.push_back(L.s_corner[by_cell[b].second]);
+        L.m_w.push_back(ww);
+        b = e;
+      }
+    }
   });
 }
 
@@ -679,19 +723,22 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
   std::array<std::ptrdiff_t, 27> off{};
   for (int o = 0; o < 27; ++o) off[o] = Ox(o) + std::ptrdiff_t(L.res + 1) * (Oy(o) + std::ptrdiff_t(L.res + 1) * Oz(o));
   // Screening as a gather: per node, the (sample slot, weight) pairs touching it.
-  const std::int64_t ns = static_cast<std::int64_t>(L.s_idx.size());
+  const bool merged = o_.screen_samples == SpsrOptions::ScreenSamples::kMerged;
+  const std::vector<std::array<int, 8>>& s_corner = merged ? L.m_corner : L.s_corner;
+  const std::vector<std::array<double, 8>>& s_w = merged ? L.m_w : L.s_w;
+  const std::int64_t ns = static_cast<std::int64_t>(s_corner.size());
   std::vector<int> start(nn + 1, 0), slot(static_cast<std::size_t>(ns) * 8);
   std::vector<double> sw(static_cast<std::size_t>(ns) * 8);
   for (std::int64_t t = 0; t < ns; ++t)
-    for (int q = 0; q < 8; ++q) ++start[L.s_corner[t][q] + 1];
+    for (int q = 0; q < 8; ++q) ++start[s_corner[t][q] + 1];
   for (std::int64_t i = 0; i < nn; ++i) start[i + 1] += start[i];
   {
     std::vector<int> fill(start.begin(), start.end() - 1);
     for (std::int64_t t = 0; t < ns; ++t)
       for (int q = 0; q < 8; ++q) {
-        const int at = fill[L.s_corner[t][q]]++;
+        const int at = fill[s_corner[t][q]]++;
         slot[at] = static_cast<int>(t);
-        sw[at] = L.s_w[t][q];
+        sw[at] = s_w[t][q];
       }
   }
   std::vector<double> diag(nn);
@@ -730,7 +777,7 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
       ParallelFor(ns, [&](std::int64_t b, std::int64_t e) {
         for (std::int64_t t = b; t < e; ++t) {
           double s = 0;
-          for (int q = 0; q < 8; ++q) s += L.s_w[t][q] * v[L.s_corner[t][q]];
+          for (int q = 0; q < 8; ++q) s += s_w[t][q] * v[s_corner[t][q]];
           sval[t] = beta * s;
         }
       }, 4096);
@@ -819,8 +866,16 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
   if (mg) {
     // Levels 2 .. F-1, each built on its own (in parallel).
     grids.resize(static_cast<std::size_t>(F_ - 2));
+    std::vector<Vec3> screen_pos;
+    if (merged) {
+      screen_pos = L.m_pos;
+    } else {
+      screen_pos.reserve(L.s_idx.size());
+      for (int t : L.s_idx) screen_pos.push_back(p_[t]);
+    }
     ParallelFor(F_ - 2, [&](std::int64_t b0, std::int64_t e0) {
-      for (std::int64_t c = b0; c < e0; ++c) grids[c].Build(static_cast<int>(c) + 2, p_, L.s_idx, beta);
+      for (std::int64_t c = b0; c < e0; ++c)
+        grids[c].Build(static_cast<int>(c) + 2, screen_pos, merged ? &L.m_count : nullptr, beta);
     }, 1);
     const CoarseGrid& g = grids.front();
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(g.N(), g.N());
@@ -1453,10 +1508,13 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
         }
       }, 4096);
       if (beta > 0) {
-        for (std::size_t s = 0; s < L.s_idx.size(); ++s) {
+        const bool merged = o_.screen_samples == SpsrOptions::ScreenSamples::kMerged;
+        const std::vector<std::array<int, 8>>& sc = merged ? L.m_corner : L.s_corner;
+        const std::vector<std::array<double, 8>>& sw = merged ? L.m_w : L.s_w;
+        for (std::size_t s = 0; s < sc.size(); ++s) {
           double chi = 0;
-          for (int q = 0; q < 8; ++q) chi += L.s_w[s][q] * P[L.s_corner[s][q]];
-          for (int q = 0; q < 8; ++q) rhs[L.s_corner[s][q]] -= beta * L.s_w[s][q] * chi;
+          for (int q = 0; q < 8; ++q) chi += sw[s][q] * P[sc[s][q]];
+          for (int q = 0; q < 8; ++q) rhs[sc[s][q]] -= beta * sw[s][q] * chi;
         }
       }
     }

@@ -108,6 +108,13 @@ struct SpsrOptions {
   bool remove_node_islands = true;
   // The screening at level d is scaled by 2^(screen_depth_exponent * d).
   double screen_depth_exponent = 1.0;
+  // Which points screen level d. kEach: every sample whose depth reaches d,
+  // at its own position. kMerged: the samples sharing a cell of level d as
+  // one point at their mean position, weighted by their count (PoissonRecon's
+  // interpolation info, accumulated up the tree). The two agree where a cell
+  // holds one sample; merged drops the spread of χ inside a cell.
+  enum class ScreenSamples { kEach, kMerged };
+  ScreenSamples screen_samples = ScreenSamples::kEach;
 };
 
 // Solution of one call, reusable as the starting guess of the next

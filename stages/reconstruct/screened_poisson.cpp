@@ -63,6 +63,10 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
       .Enum("iso_weight", &O::iso_weight, kSpsrIsoWeightNames,
             "backend arcs: the iso-value is the mean of the solution at the samples weighted by their areas "
             "(area) or alike (count: PoissonRecon's, by merged point count)")
+      .Enum("screen_samples", &O::screen_samples, kSpsrScreenSamplesNames,
+            "backend arcs: the points that screen each octree level: each = every sample at its position; "
+            "merged = the samples of one cell as one point at their mean, weighted by their count "
+            "(PoissonRecon's interpolation info)")
       .Bool("warm_start", &O::warm_start,
             "backend arcs: a repeated call for one case (RFTA's fine-tuning) starts from the previous solution")
       .Bool("area_normalized", &O::area_normalized,
