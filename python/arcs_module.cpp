@@ -151,7 +151,7 @@ py::array GridArray(const VectorXd& values, const GridInfo& g) {
     for (int j = 0; j < ny; ++j)
       for (int k = 0; k < nz; ++k)
         o[(static_cast<std::int64_t>(i) * ny + j) * nz + k] = values[i + static_cast<std::int64_t>(nx) * (j + static_cast<std::int64_t>(ny) * k)];
-  return std::move(out);
+  return out;
 }
 
 py::tuple Bounds(const GridInfo& g) {

@@ -38,7 +38,8 @@ E EnumFromName(std::span<const EnumName<E>> table, const std::string& name) {
   std::string names;
   for (const auto& e : table) {
     if (name == e.name) return e.value;
-    names += (names.empty() ? "" : "|") + std::string(e.name);
+    if (!names.empty()) names += '|';
+    names += e.name;
   }
   throw OptionError("'" + name + "': must be one of " + names);
 }

@@ -103,8 +103,11 @@ TEST(RftaLibrary, TuningCellCoarsensTheTuningSurfacesInStageAndLibraryAlike) {
   given.Set("tuning_cell", 0.6);
   const CaseData d = RunRftaStage(r, s, given, 5);
   ASSERT_TRUE(Has(d, "rfta_tuning_max_cell"));
-  for (const auto& [k, v] : d.metrics)
-    if (k == "rfta_tuning_max_cell") EXPECT_NEAR(v, 0.6 * 0.2, 1e-12);
+  for (const auto& [k, v] : d.metrics) {
+    if (k == "rfta_tuning_max_cell") {
+      EXPECT_NEAR(v, 0.6 * 0.2, 1e-12);
+    }
+  }
   RftaOptions o;
   o.fine_tune.iterations = 3;
   const RftaResult plain = ReachForTheArcs(s, o, Context(5));

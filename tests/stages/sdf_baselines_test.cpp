@@ -145,7 +145,9 @@ TEST(SdfBaselinesTest, BadSamplesAreClearErrors) {
   SdfSamples scattered = good;
   scattered.grid.reset();
   for (const auto& name : {"dual_contouring", "dcsdd", "vdb_mesher"}) ExpectStageError(name, scattered, "regular grid");
-  if (PowerDiagramAvailable()) EXPECT_TRUE(ComputeTopology(RunMethod("power_diagram", scattered)).closed);
+  if (PowerDiagramAvailable()) {
+    EXPECT_TRUE(ComputeTopology(RunMethod("power_diagram", scattered)).closed);
+  }
 }
 
 // Issue 12, item 3: on the CAD-like bench meshes (paper protocol: longest
