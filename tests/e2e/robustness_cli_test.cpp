@@ -88,7 +88,7 @@ TEST_F(RobustnessCli, HostileMeshesEndWithinASecondWithoutASignal) {
   for (const auto& c : cases) {
     const fs::path mesh = dir_ / c.name;
     std::ofstream(mesh) << c.text;
-    for (const std::string cmd : {"sdf " + Q(mesh) + " " + Q(dir_ / "s.npy") + " --n 8",
+    for (const std::string& cmd : {"sdf " + Q(mesh) + " " + Q(dir_ / "s.npy") + " --n 8",
                                   "voxelize " + Q(mesh) + " " + Q(dir_ / "v.npy") + " --resolution 16",
                                   "eval " + Q(mesh) + " " + Q(mesh) + " --samples 1000"}) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -134,7 +134,9 @@ TEST_F(RobustnessCli, SdfSignFollowsTheVoxelizersRule) {
     const auto r = RunCmd(Arcs() + " sdf " + Q(dir_ / (std::string(m) + ".obj")) + " " +
                           Q(dir_ / (std::string(m) + "_s.npy")) + " --n 20");
     ASSERT_EQ(r.code, 0) << r.output;
-    if (std::string(m) != "sphere") EXPECT_NE(r.output.find("warning"), std::string::npos) << m << ": " << r.output;
+    if (std::string(m) != "sphere") {
+      EXPECT_NE(r.output.find("warning"), std::string::npos) << m << ": " << r.output;
+    }
     // The same 21 nodes in voxelize's frame (longest side 2): [-2, 2].
     const auto v = RunCmd(Arcs() + " voxelize " + Q(dir_ / (std::string(m) + ".obj")) + " " +
                           Q(dir_ / (std::string(m) + "_v.npy")) + " --resolution 21 --lo -2 --hi 2");

@@ -80,7 +80,9 @@ TEST(RegistryTest, BuiltinsHaveDocumentedParametersWithValidDefaults) {
       EXPECT_FALSE(p.doc.empty()) << s->name << "." << p.name;
       EXPECT_NO_THROW(p.CheckValue(p.default_value)) << s->name << "." << p.name;
     }
-    if (s->role == Role::kEvaluator) EXPECT_FALSE(s->outputs.empty()) << s->name;
+    if (s->role == Role::kEvaluator) {
+      EXPECT_FALSE(s->outputs.empty()) << s->name;
+    }
   }
   // The paper's protocol defaults.
   const StageInfo& g = r.Get("sdf_grid");
