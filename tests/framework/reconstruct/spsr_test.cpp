@@ -51,6 +51,17 @@ double Volume(const Mesh& m) {
   return v;
 }
 
+// One closed genus-0 component, every vertex within 3 % of radius r of the origin.
+void ExpectClosedSphereAtOrigin(const Mesh& m, double r) {
+  const Topology t = ComputeTopology(m);
+  EXPECT_EQ(t.components, 1);
+  EXPECT_EQ(t.boundary_edges, 0);
+  EXPECT_EQ(t.genus, 0);
+  double worst = 0;
+  for (int i = 0; i < m.NumVertices(); ++i) worst = std::max(worst, std::abs(Vec3(m.V.row(i)).norm() - r));
+  EXPECT_LT(worst, 0.03 * r);
+}
+
 TEST(Spsr, SphereIsClosedRoundAndOutward) {
   const double r = 0.5;
   const Vec3 c(0.2, -0.1, 3.0);  // off the origin: the frame must map back
@@ -133,13 +144,7 @@ TEST(Spsr, DensityScaleScalesTheAreaAndCeilSplatKeepsTheSurface) {
   EXPECT_EQ(ceil.extract_depth, base.extract_depth);
   EXPECT_DOUBLE_EQ(ceil.area, base.area);  // the density is not touched
   EXPECT_NE(b.V, a.V);
-  const Topology t = ComputeTopology(b);
-  EXPECT_EQ(t.components, 1);
-  EXPECT_EQ(t.boundary_edges, 0);
-  EXPECT_EQ(t.genus, 0);
-  double worst = 0;
-  for (int i = 0; i < b.NumVertices(); ++i) worst = std::max(worst, std::abs(Vec3(b.V.row(i)).norm() - r));
-  EXPECT_LT(worst, 0.03 * r);
+  ExpectClosedSphereAtOrigin(b, r);
   // iso_weight count: the samples alike (their areas vary), another
   // iso-value on the same solution, the same closed round sphere.
   SpsrOptions w;
@@ -173,13 +178,7 @@ TEST(Spsr, MergedScreeningKeepsTheSurfaceAndDiffersFromEach) {
   EXPECT_EQ(merged.extract_depth, each.extract_depth);
   EXPECT_DOUBLE_EQ(merged.area, each.area);
   EXPECT_NE(merged.iso_value, each.iso_value);
-  const Topology t = ComputeTopology(b);
-  EXPECT_EQ(t.components, 1);
-  EXPECT_EQ(t.boundary_edges, 0);
-  EXPECT_EQ(t.genus, 0);
-  double worst = 0;
-  for (int i = 0; i < b.NumVertices(); ++i) worst = std::max(worst, std::abs(Vec3(b.V.row(i)).norm() - r));
-  EXPECT_LT(worst, 0.03 * r);
+  ExpectClosedSphereAtOrigin(b, r);
   EXPECT_NEAR(Volume(b), Volume(a), 0.03 * Volume(a));
   {
     ThreadLimit limit(2);
