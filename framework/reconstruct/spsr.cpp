@@ -208,8 +208,10 @@ struct CoarseGrid {
   std::vector<double> coef;  // 27 per node
   int N() const { return (res + 1) * (res + 1) * (res + 1); }
   int Idx(int x, int y, int z) const { return x + (res + 1) * (y + (res + 1) * z); }
-  // pts: the screening points; count: their weights (null: 1 each).
-  void Build(int level, const std::vector<Vec3>& pts, const std::vector<double>* count, double beta) {
+  // The screening points: pts[idx[s]] for each s (idx null: every pts[s]),
+  // weighted by count[s] (null: 1 each).
+  void Build(int level, const std::vector<Vec3>& pts, const std::vector<int>* idx, const std::vector<double>* count,
+             double beta) {
     res = 1 << level;
     const Tent1D t{1.0 / res, res};
     coef.assign(static_cast<std::size_t>(N()) * 27, 0.0);
@@ -225,10 +227,11 @@ struct CoarseGrid {
           }
         }
     if (beta <= 0) return;
-    for (std::size_t s = 0; s < pts.size(); ++s) {
+    const std::size_t np = idx ? idx->size() : pts.size();
+    for (std::size_t s = 0; s < np; ++s) {
       int c[3];
       double w[8];
-      CellOf(pts[s], res, c, w);
+      CellOf(pts[idx ? static_cast<std::size_t>((*idx)[s]) : s], res, c, w);
       const double bc = count ? beta * (*count)[s] : beta;
       for (int q1 = 0; q1 < 8; ++q1) {
         const int i = Idx(c[0] + (q1 & 1), c[1] + ((q1 >> 1) & 1), c[2] + ((q1 >> 2) & 1));
@@ -321,6 +324,11 @@ class Solver {
   // z >> 1) or -1, given.
   Vec3 ProlongVecAt(const Level& coarse, const std::vector<Vec3>& vc, int x, int y, int z, int base) const;
   int SolveLevel(Level& L, const std::vector<double>& b, double beta, int max_iters, double tol);
+  // The points that screen level L (SpsrOptions::screen_samples): their
+  // corner unknowns and weights.
+  bool Merged() const { return o_.screen_samples == SpsrOptions::ScreenSamples::kMerged; }
+  const std::vector<std::array<int, 8>>& ScreenCorner(const Level& L) const { return Merged() ? L.m_corner : L.s_corner; }
+  const std::vector<std::array<double, 8>>& ScreenWeight(const Level& L) const { return Merged() ? L.m_w : L.s_w; }
   // Prolonged values of nodes that are not unknowns, per level: the solver's
   // own, or a parallel block's.
   struct Memo {
@@ -723,9 +731,8 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
   std::array<std::ptrdiff_t, 27> off{};
   for (int o = 0; o < 27; ++o) off[o] = Ox(o) + std::ptrdiff_t(L.res + 1) * (Oy(o) + std::ptrdiff_t(L.res + 1) * Oz(o));
   // Screening as a gather: per node, the (sample slot, weight) pairs touching it.
-  const bool merged = o_.screen_samples == SpsrOptions::ScreenSamples::kMerged;
-  const std::vector<std::array<int, 8>>& s_corner = merged ? L.m_corner : L.s_corner;
-  const std::vector<std::array<double, 8>>& s_w = merged ? L.m_w : L.s_w;
+  const std::vector<std::array<int, 8>>& s_corner = ScreenCorner(L);
+  const std::vector<std::array<double, 8>>& s_w = ScreenWeight(L);
   const std::int64_t ns = static_cast<std::int64_t>(s_corner.size());
   std::vector<int> start(nn + 1, 0), slot(static_cast<std::size_t>(ns) * 8);
   std::vector<double> sw(static_cast<std::size_t>(ns) * 8);
@@ -866,16 +873,12 @@ int Solver::SolveLevel(Level& L, const std::vector<double>& rhs, double beta, in
   if (mg) {
     // Levels 2 .. F-1, each built on its own (in parallel).
     grids.resize(static_cast<std::size_t>(F_ - 2));
-    std::vector<Vec3> screen_pos;
-    if (merged) {
-      screen_pos = L.m_pos;
-    } else {
-      screen_pos.reserve(L.s_idx.size());
-      for (int t : L.s_idx) screen_pos.push_back(p_[t]);
-    }
     ParallelFor(F_ - 2, [&](std::int64_t b0, std::int64_t e0) {
       for (std::int64_t c = b0; c < e0; ++c)
-        grids[c].Build(static_cast<int>(c) + 2, screen_pos, merged ? &L.m_count : nullptr, beta);
+        if (Merged())
+          grids[c].Build(static_cast<int>(c) + 2, L.m_pos, nullptr, &L.m_count, beta);
+        else
+          grids[c].Build(static_cast<int>(c) + 2, p_, &L.s_idx, nullptr, beta);
     }, 1);
     const CoarseGrid& g = grids.front();
     Eigen::MatrixXd A = Eigen::MatrixXd::Zero(g.N(), g.N());
@@ -1508,9 +1511,8 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
         }
       }, 4096);
       if (beta > 0) {
-        const bool merged = o_.screen_samples == SpsrOptions::ScreenSamples::kMerged;
-        const std::vector<std::array<int, 8>>& sc = merged ? L.m_corner : L.s_corner;
-        const std::vector<std::array<double, 8>>& sw = merged ? L.m_w : L.s_w;
+        const std::vector<std::array<int, 8>>& sc = ScreenCorner(L);
+        const std::vector<std::array<double, 8>>& sw = ScreenWeight(L);
         for (std::size_t s = 0; s < sc.size(); ++s) {
           double chi = 0;
           for (int q = 0; q < 8; ++q) chi += sw[s][q] * P[sc[s][q]];
