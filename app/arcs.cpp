@@ -24,6 +24,7 @@
 #include "app/cli.h"
 #include "app/mesh_input.h"
 #include "app/commands.h"
+#include "app/stage_params.h"
 
 #include <chrono>
 #include <climits>
@@ -261,34 +262,6 @@ int CmdSdf(const Args& args) {
   return 0;
 }
 
-// Decodes "name=value" for a stage parameter by the schema's type.
-ParamValue DecodeParam(const ParamSpec& spec, const std::string& text) {
-  ParamValue v;
-  switch (spec.type) {
-    case ParamType::kBool:
-      if (text != "true" && text != "false") Usage(spec.name + " must be true or false");
-      v = text == "true";
-      break;
-    case ParamType::kInt: v = static_cast<std::int64_t>(ParseInt64(text, spec.name)); break;
-    case ParamType::kDouble: {
-      char* end = nullptr;
-      const double d = std::strtod(text.c_str(), &end);
-      if (text.empty() || *end) Usage(spec.name + " must be a number, got '" + text + "'");
-      v = d;
-      break;
-    }
-    case ParamType::kString:
-    case ParamType::kChoice: v = text; break;
-    case ParamType::kStage: {
-      auto st = std::make_shared<StageSpec>();
-      st->stage = text;
-      v = st;
-      break;
-    }
-  }
-  return v;
-}
-
 int CmdReconstruct(Registry& registry, const Args& args, int argc, char** argv) {
   if (args.positional.size() != 2) Usage("reconstruct needs SDF (input samples) and OUT (mesh file)");
   if (IsPointReconstruction(registry, args.positional[0], args.Get("--method")))
@@ -297,19 +270,7 @@ int CmdReconstruct(Registry& registry, const Args& args, int argc, char** argv) 
   const StageInfo& info = registry.Get(method);
   if (info.role != Role::kSdfToMesh)
     Usage("--method " + method + " is a " + RoleName(info.role) + " stage; an sdf_to_mesh stage is needed");
-  ParamMap given;
-  for (const auto& kv : args.All("--param")) {
-    const size_t eq = kv.find('=');
-    if (eq == std::string::npos) Usage("--param expects name=value, got '" + kv + "'");
-    const std::string name = kv.substr(0, eq);
-    const ParamSpec* spec = info.params.Find(name);
-    if (!spec) {
-      std::string valid;
-      for (const auto& p : info.params.specs()) valid += (valid.empty() ? "" : ", ") + p.name;
-      Usage("stage '" + method + "' has no parameter '" + name + "' (valid: " + valid + ")");
-    }
-    given.Set(name, DecodeParam(*spec, kv.substr(eq + 1)));
-  }
+  const ParamMap given = DecodeGivenParams(registry, method, args.All("--param"), "--param");
   const ParamMap params = registry.Resolve(method, given);
   {  // formats by extension, before any work
     const std::string e = fs::path(args.positional[1]).extension().string();

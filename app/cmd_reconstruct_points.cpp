@@ -11,6 +11,7 @@
 // --estimate-normals).
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/stage_params.h"
 #include "framework/error.h"
 #include "framework/geometry/normalize.h"
 #include "framework/geometry/transform_file.h"
@@ -78,38 +79,7 @@ PointCloud ReadPointsFile(const std::string& path) {
 // "name=value" list -> the stage's resolved parameters (the schema decides each type).
 ParamMap DecodeStageParams(const Registry& registry, const std::string& stage, const std::vector<std::string>& kvs,
                            const std::string& flag) {
-  const StageInfo& info = registry.Get(stage);
-  ParamMap given;
-  for (const auto& kv : kvs) {
-    const size_t eq = kv.find('=');
-    if (eq == std::string::npos) cli::Usage(flag + " expects name=value, got '" + kv + "'");
-    const std::string name = kv.substr(0, eq), text = kv.substr(eq + 1);
-    const ParamSpec* spec = info.params.Find(name);
-    if (!spec) {
-      std::string valid;
-      for (const auto& p : info.params.specs()) valid += (valid.empty() ? "" : ", ") + p.name;
-      cli::Usage("stage '" + stage + "' has no parameter '" + name + "' (valid: " + valid + ")");
-    }
-    ParamValue v;
-    switch (spec->type) {
-      case ParamType::kBool:
-        if (text != "true" && text != "false") cli::Usage(name + " must be true or false");
-        v = text == "true";
-        break;
-      case ParamType::kInt: v = static_cast<std::int64_t>(cli::ParseInt(text, name)); break;
-      case ParamType::kDouble: v = cli::ParseDouble(text, name); break;
-      case ParamType::kString:
-      case ParamType::kChoice: v = text; break;
-      case ParamType::kStage: {
-        auto st = std::make_shared<StageSpec>();
-        st->stage = text;
-        v = st;
-        break;
-      }
-    }
-    given.Set(name, v);
-  }
-  return registry.Resolve(stage, given);
+  return registry.Resolve(stage, DecodeGivenParams(registry, stage, kvs, flag));
 }
 
 }  // namespace

@@ -177,6 +177,42 @@ TEST(CliTool, EvalInOneFrameAndJson) {
   EXPECT_EQ(bad.code, 2);
 }
 
+// A stage-valued --param in the form --help prints its default in:
+// STAGE(name=value, ...). Named like the default, it starts from the
+// default's parameters (rfta's official screened-Poisson call), as a nested
+// stage in an experiment file does; screened_poisson's own defaults (PCL,
+// automatic depth) would give another mesh.
+TEST(CliTool, ReconstructNestedStageParameters) {
+  const auto dir = TempDir("cli_nested");
+  const std::string in = (dir / "t.npz").string();
+  const CmdResult s = RunCmd(Arcs() + " sdf shape:torus '" + in + "' --n 10");
+  ASSERT_EQ(s.code, 0) << s.output;
+  const auto bytes = [](const std::filesystem::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+  };
+  const auto run = [&](const std::string& name, const std::string& params) {
+    const CmdResult r = RunCmd(Arcs() + " reconstruct '" + in + "' '" + (dir / name).string() + "' --threads 1 " + params);
+    EXPECT_EQ(r.code, 0) << params << "\n" << r.output;
+    return bytes(dir / name);
+  };
+  const std::string plain = run("plain.ply", "");
+  ASSERT_FALSE(plain.empty());
+  EXPECT_EQ(run("same.ply", "--param 'reconstructor=screened_poisson(point_weight=10)' "
+                            "--param 'tuning_reconstructor=screened_poisson'"),
+            plain);
+  EXPECT_NE(run("heavier.ply", "--param 'reconstructor=screened_poisson(point_weight=40, normal_splat=ceil)'"), plain);
+  for (const auto& [param, message] : std::vector<std::pair<std::string, std::string>>{
+           {"reconstructor=screened_poisson(normal_splt=ceil)", "stage 'screened_poisson' has no parameter 'normal_splt'"},
+           {"reconstructor=screened_poisson(point_weight=15", "expected STAGE(name=value, ...)"},
+           {"reconstructor=screened_poisson(point_weight=heavy)", "screened_poisson.point_weight must be a number"},
+           {"reconstructor=screened_poison", "did you mean 'screened_poisson'"}}) {
+    const CmdResult r = RunCmd(Arcs() + " reconstruct '" + in + "' '" + (dir / "x.ply").string() + "' --param '" + param + "'");
+    EXPECT_EQ(r.code, 2) << param << "\n" << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+  }
+}
+
 TEST(CliTool, SdfReconstructVoxelizeRoundTripEveryFormat) {
   const auto dir = TempDir("cli_formats");
   // Grid: .npy, .npz and text hold the same samples; MC on the grids agrees.
