@@ -32,6 +32,8 @@ RftaOptions DecodeRftaOptions(const ParamMap& p) {
   o.fine_tune.final_check = EnumFromName(std::span<const EnumName<FineTuneOptions::FinalCheck>>(
                                               FineTuneOptions::kFinalCheckNames),
                                           p.GetString("final_check"));
+  o.projector.search.pair_choice = o.fine_tune.search.pair_choice =
+      EnumFromName(std::span<const EnumName<PairChoice>>(kPairChoiceNames), p.GetString("pair_choice"));
   o.drop_infeasible_components = p.GetBool("drop_infeasible_components");
   o.tuning_cell = p.GetDouble("tuning_cell");
   const std::string sc = p.GetString("on_sign_conflict");
@@ -194,6 +196,8 @@ void RegisterRfta(Registry& r) {
   Binder<FineTuneOptions> final_check;
   const ParamSchema final_check_schema = FinalCheckParam(final_check).Schema();
   for (const ParamSpec& spec : final_check_schema.specs()) s.params.Add(spec);
+  // pair_choice: Algorithm 2's own declaration, for the projector and the fine-tuner alike.
+  s.params.Add(*FeasibleSearchParams().Schema().Find("pair_choice"));
   s.params.Choice("on_sign_conflict", "warn", {"warn", "error", "ignore"},
                   "positive and negative spheres that overlap (not an SDF; noisy SDFs, Fig. 23, have some): "
                   "warn and go on (refused when more than half of the outside spheres conflict), fail the "

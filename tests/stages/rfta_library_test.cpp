@@ -126,6 +126,36 @@ TEST(RftaLibrary, TuningCellCoarsensTheTuningSurfacesInStageAndLibraryAlike) {
   EXPECT_THROW(ReachForTheArcs(s, o, Context(5)), OptionError);
 }
 
+// pair_choice reaches Algorithm 2 in the projector and in the fine-tuner, in
+// the stage as in the library; its default is the one arc_projector and
+// fine_tune declare (one declaration), the paper's closest candidate.
+TEST(RftaLibrary, PairChoiceReachesProjectorAndFineTunerInStageAndLibraryAlike) {
+  const SdfSamples s = TorusSamples10();
+  Registry r;
+  RegisterBuiltinStages(r);
+  const std::string def = r.Resolve("rfta", ParamMap()).GetString("pair_choice");
+  EXPECT_EQ(def, "closest");
+  EXPECT_EQ(r.Resolve("arc_projector", ParamMap()).GetString("pair_choice"), def);
+  EXPECT_EQ(r.Resolve("fine_tune", ParamMap()).GetString("pair_choice"), def);
+  ParamMap given;
+  given.Set("iterations", std::int64_t{3});
+  given.Set("pair_choice", std::string("first"));
+  const CaseData d = RunRftaStage(r, s, given, 5);
+  RftaOptions o;
+  o.fine_tune.iterations = 3;
+  const RftaResult closest = ReachForTheArcs(s, o, Context(5));
+  o.projector.search.pair_choice = o.fine_tune.search.pair_choice = PairChoice::kFirst;
+  const RftaResult lib = ReachForTheArcs(s, o, Context(5));
+  ASSERT_TRUE(d.points.has_value());
+  ASSERT_EQ(lib.points.Size(), d.points->Size());
+  EXPECT_EQ((lib.points.P - d.points->P).cwiseAbs().maxCoeff(), 0.0);
+  // The rule decides where Algorithm 2 puts points, so the clouds differ.
+  EXPECT_TRUE(closest.points.Size() != lib.points.Size() ||
+              (closest.points.P - lib.points.P).cwiseAbs().maxCoeff() > 0.0);
+  given.Set("pair_choice", std::string("nearest"));
+  EXPECT_THROW(r.Resolve("rfta", given), OptionError);
+}
+
 // tuning_cell where it cannot apply (the tuning screened_poisson's own
 // extract_max_cell already set) is said in a warning, not silently ignored,
 // and leaves the nested stage's value.
