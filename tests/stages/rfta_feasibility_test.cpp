@@ -99,7 +99,7 @@ TEST(RftaFeasibility, BothStagesShareTheDefault) {
   Registry r;
   RegisterBuiltinStages(r);
   const std::string def = r.Resolve("fine_tune", ParamMap()).GetString("final_check");
-  EXPECT_EQ(def, "drop");
+  EXPECT_EQ(def, "repair");
   EXPECT_EQ(r.Resolve("rfta", ParamMap()).GetString("final_check"), def);
 }
 
@@ -136,13 +136,15 @@ TEST(RftaFeasibility, FineTuneStageDefaultLeavesNoViolatorAndOffCountsThem) {
   Registry r;
   RegisterBuiltinStages(r);
   const SdfSamples s = TorusSamples(14);
-  ParamMap off_p, def_p, rep_p;
+  ParamMap off_p, def_p, rep_p, drop_p;
   off_p.Set("batch_size", std::int64_t{200});
   off_p.Set("iterations", std::int64_t{3});
   def_p = off_p;
   rep_p = off_p;
+  drop_p = off_p;
   off_p.Set("final_check", std::string("off"));
   rep_p.Set("final_check", std::string("repair"));
+  drop_p.Set("final_check", std::string("drop"));
 
   const CaseData off = RunFineTuneStage(r, s, off_p);
   const std::int64_t off_lo = CountViolators(s, off, 1.0 + 1e-6), off_hi = CountViolators(s, off, 1.0 - 1e-6);
@@ -155,8 +157,13 @@ TEST(RftaFeasibility, FineTuneStageDefaultLeavesNoViolatorAndOffCountsThem) {
   EXPECT_EQ(CountViolators(s, def, 1.0 + 1e-6), 0);
   EXPECT_EQ(Metric(def, "final_infeasible"), 0);
   EXPECT_EQ(Metric(def, "final_infeasible_before"), Metric(off, "final_infeasible"));
-  EXPECT_EQ(Metric(def, "final_dropped"), Metric(off, "final_infeasible"));  // drop: every violator goes
-  EXPECT_EQ(def.points->Size(), off.points->Size() - static_cast<int>(Metric(off, "final_infeasible")));
+
+  const CaseData drop = RunFineTuneStage(r, s, drop_p);
+  EXPECT_EQ(CountViolators(s, drop, 1.0 + 1e-6), 0);
+  EXPECT_EQ(Metric(drop, "final_infeasible"), 0);
+  EXPECT_EQ(Metric(drop, "final_dropped"), Metric(off, "final_infeasible"));  // drop: every violator goes
+  EXPECT_EQ(Metric(drop, "final_repaired"), 0);
+  EXPECT_EQ(drop.points->Size(), off.points->Size() - static_cast<int>(Metric(off, "final_infeasible")));
 
   const CaseData rep = RunFineTuneStage(r, s, rep_p);
   EXPECT_EQ(CountViolators(s, rep, 1.0 + 1e-6), 0);
@@ -164,6 +171,11 @@ TEST(RftaFeasibility, FineTuneStageDefaultLeavesNoViolatorAndOffCountsThem) {
   EXPECT_GT(Metric(rep, "final_repaired"), 0);
   EXPECT_EQ(Metric(rep, "final_repaired") + Metric(rep, "final_dropped"), Metric(off, "final_infeasible"));
   EXPECT_EQ(rep.points->Size(), off.points->Size() - static_cast<int>(Metric(rep, "final_dropped")));
+  // The default is repair: the same points and counts.
+  EXPECT_EQ(def.points->Size(), rep.points->Size());
+  EXPECT_EQ(Metric(def, "final_repaired"), Metric(rep, "final_repaired"));
+  EXPECT_EQ(Metric(def, "final_dropped"), Metric(rep, "final_dropped"));
+  EXPECT_TRUE(def.points->P == rep.points->P);
 }
 
 }  // namespace

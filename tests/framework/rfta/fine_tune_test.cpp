@@ -160,7 +160,7 @@ TEST(FineTune, FinalCheckRemovesOrRepairsPointsInsideOtherSpheres) {
   EXPECT_EQ(off.final_repaired + off.final_dropped, 0);
 
   o.final_check = FineTuneOptions::FinalCheck::kDrop;
-  EXPECT_EQ(FineTuneOptions{}.final_check, FineTuneOptions::FinalCheck::kDrop) << "the default (issue 10, criterion 4)";
+  EXPECT_EQ(FineTuneOptions{}.final_check, FineTuneOptions::FinalCheck::kRepair) << "the default (issue 10, criterion 4)";
   const FineTuneResult drop = FineTune(s.samples, pc, sample, FitBall, o, Context(3));
   EXPECT_EQ(drop.final_infeasible_before, static_cast<std::int64_t>(extra.size()));
   EXPECT_EQ(drop.final_repaired, 0);
