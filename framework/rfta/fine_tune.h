@@ -55,9 +55,9 @@ struct FineTuneOptions {
   // algorithm as written). The check's counts are measured in every mode
   // (FineTuneResult::final_*), kOff included. repair against drop, measured
   // on the paper preset (docs/decisions.md, "Final check"): lower mean
-  // Chamfer, E_SDF and Hausdorff over the bench set at n = 30, 40 and 50,
-  // fewer extra pieces, and fertility's genus in one component at 6 of 8
-  // seeds of Fig. 9 against 4; at n <= 20 (N <= b) the two agree bit for bit.
+  // Chamfer, E_SDF and Hausdorff over the bench set at n = 30, 40 and 50;
+  // Fig. 9's fertility in one component at 3 of 8 seeds against drop's 4
+  // (paired), so no topology gain; at n <= 20 (N <= b) the two agree bit for bit.
   enum class FinalCheck { kOff, kDrop, kRepair };
   static constexpr EnumName<FinalCheck> kFinalCheckNames[] = {
       {FinalCheck::kOff, "off"}, {FinalCheck::kDrop, "drop"}, {FinalCheck::kRepair, "repair"}};
