@@ -50,8 +50,8 @@ struct FineTuneOptions {
   // After the last iteration, every point is checked against all spheres, not
   // only a batch (the batches of §4.2 leave points that some other sphere
   // contains, i.e. points the SDF data rules out as surface points; issue 10,
-  // criterion 4). kDrop (the default): drop them; kRepair: Alg. 2 against all
-  // spheres, dropping the points it cannot fix; kOff: keep them (the paper's
+  // criterion 4). kRepair (the default): Alg. 2 against all spheres, dropping
+  // the points it cannot fix; kDrop: drop them all; kOff: keep them (the paper's
   // algorithm as written). The check's counts are measured in every mode
   // (FineTuneResult::final_*), kOff included. repair against drop, measured
   // on the paper preset (docs/decisions.md, "Final check"): lower mean
