@@ -541,6 +541,10 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
             if (e.listed && e.at == x) return !e.inside.empty();
           return full.AnyContains(x, -tol, g, local);
         };
+        // Every point is tested once; what the result still violates is
+        // counted as it is kept (a point kept unmoved keeps its answer, and a
+        // repaired one is kept only after its own test), so no second pass
+        // asks the tree again.
         std::vector<Vec3> keep;
         keep.reserve(pts[g].size());
         for (Vec3 x : pts[g]) {
@@ -551,8 +555,15 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           ++before[g];
           if (mode == FineTuneOptions::FinalCheck::kOff) {
             keep.push_back(x);
-          } else if (mode == FineTuneOptions::FinalCheck::kRepair &&
-                     MakeFeasible(full, c, r, g, mf, &x, nullptr, local) && !full.AnyContains(x, -tol, g, local)) {
+            ++after[g];
+            continue;
+          }
+          // Algorithm 2 starts from the containment just found (the same
+          // answer as its own first query, which it then skips).
+          const KnownContainment known_inside{x, true};
+          if (mode == FineTuneOptions::FinalCheck::kRepair &&
+              MakeFeasible(full, c, r, g, mf, &x, nullptr, local, &known_inside) &&
+              !full.AnyContains(x, -tol, g, local)) {
             keep.push_back(x);
             ++repaired[g];
           } else {
@@ -560,8 +571,6 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           }
         }
         pts[g].swap(keep);
-        // The recount: what the result still violates.
-        for (const Vec3& x : pts[g]) after[g] += contained(x);
       }
     }, 64);
     for (int g = 0; g < ns; ++g) {
