@@ -7,6 +7,9 @@
 #include "framework/util/parallel.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
 #include <vector>
 
 namespace arcs {
@@ -107,6 +110,129 @@ ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samp
   int k = 0;
   for (int f = 0; f < nf; ++f) {
     if (drop[face_comp[f]]) continue;
+    out.F.row(k++) << remap[mesh->F(f, 0)], remap[mesh->F(f, 1)], remap[mesh->F(f, 2)];
+  }
+  *mesh = std::move(out);
+  return st;
+}
+
+SmallComponentStats DropSmallComponents(Mesh* mesh, const SdfSamples& samples, double max_extent, double budget) {
+  SmallComponentStats st;
+  const int nv = mesh->NumVertices(), nf = mesh->NumFaces();
+  if (nf == 0 || samples.Size() == 0 || !(max_extent > 0)) return st;
+  int nc = 0;
+  const std::vector<int> face_comp = FaceComponents(*mesh, &nc);
+  st.components = nc;
+  if (nc <= 1) return st;
+  std::vector<int> nfaces(nc, 0);
+  std::vector<Vec3> lo(nc, Vec3::Constant(std::numeric_limits<double>::infinity())),
+      hi(nc, Vec3::Constant(-std::numeric_limits<double>::infinity()));
+  for (int f = 0; f < nf; ++f) {
+    const int c = face_comp[f];
+    ++nfaces[c];
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 v = mesh->V.row(mesh->F(f, k)).transpose();
+      lo[c] = lo[c].cwiseMin(v);
+      hi[c] = hi[c].cwiseMax(v);
+    }
+  }
+  const int largest = static_cast<int>(std::max_element(nfaces.begin(), nfaces.end()) - nfaces.begin());
+  std::vector<int> candidates;
+  for (int c = 0; c < nc; ++c)
+    if (c != largest && (hi[c] - lo[c]).maxCoeff() < max_extent) candidates.push_back(c);
+  st.candidates = static_cast<int>(candidates.size());
+  if (candidates.empty()) return st;
+  // The budget is spent smallest first (ties by component index).
+  std::stable_sort(candidates.begin(), candidates.end(), [&](int a, int b) { return nfaces[a] < nfaces[b]; });
+  // Each sample's nearest surface point on the whole mesh: its distance and
+  // its component. As components go, the samples they served move to the
+  // nearest of the components left.
+  MatrixX3d centers(samples.Size(), 3);
+  for (Eigen::Index i = 0; i < samples.Size(); ++i) centers.row(i) = SamplePoint(samples, i).transpose();
+  VectorXd sq;
+  Eigen::VectorXi face;
+  TriangleBvh(*mesh, TriangleBvh::BuildKind::kMortonAxisAligned).ClosestPoints(centers, &sq, nullptr, &face);
+  std::vector<int> serves(samples.Size());
+  for (Eigen::Index i = 0; i < samples.Size(); ++i) serves[i] = face[i] >= 0 ? face_comp[face[i]] : -1;
+  // One tree per component (the nearest of those left is a minimum over them).
+  std::vector<Mesh> part(nc);
+  {
+    // Each component with its own vertices (a vertex belongs to one).
+    std::vector<int> count(nc, 0), nverts(nc, 0), local(nv, -1);
+    for (int c = 0; c < nc; ++c) part[c].F.resize(nfaces[c], 3);
+    for (int f = 0; f < nf; ++f) {
+      const int c = face_comp[f];
+      for (int k = 0; k < 3; ++k) {
+        int& l = local[mesh->F(f, k)];
+        if (l < 0) l = nverts[c]++;
+        part[c].F(count[c], k) = l;
+      }
+      ++count[c];
+    }
+    for (int c = 0; c < nc; ++c) part[c].V.resize(nverts[c], 3);
+    for (int f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const int v = mesh->F(f, k);
+        part[face_comp[f]].V.row(local[v]) = mesh->V.row(v);
+      }
+  }
+  std::vector<std::unique_ptr<TriangleBvh>> tree(nc);
+  ParallelFor(nc, [&](std::int64_t b, std::int64_t e) {
+    for (std::int64_t c = b; c < e; ++c) tree[c] = std::make_unique<TriangleBvh>(part[c], TriangleBvh::BuildKind::kMortonAxisAligned);
+  }, 1);
+  std::vector<char> alive(nc, 1);
+  double spent = 0;
+  for (int c : candidates) {
+    std::vector<int> near;
+    for (Eigen::Index i = 0; i < samples.Size(); ++i)
+      if (serves[i] == c) near.push_back(static_cast<int>(i));
+    // Without c: each of its samples' distance to the nearest component left.
+    std::vector<double> sq_rest(near.size(), std::numeric_limits<double>::infinity());
+    std::vector<int> to(near.size(), -1);
+    ParallelFor(static_cast<std::int64_t>(near.size()), [&](std::int64_t b, std::int64_t e) {
+      for (std::int64_t j = b; j < e; ++j)
+        for (int k = 0; k < nc; ++k) {
+          if (!alive[k] || k == c) continue;
+          const TriangleBvh::Hit h = tree[k]->Closest(centers.row(near[j]).transpose(), sq_rest[j]);
+          if (h.face >= 0 && h.sq_dist < sq_rest[j]) {
+            sq_rest[j] = h.sq_dist;
+            to[j] = k;
+          }
+        }
+    }, 64);
+    double delta = 0;
+    for (std::size_t j = 0; j < near.size(); ++j) {
+      const double r = std::abs(samples.values[near[j]]);
+      const double without = r - std::sqrt(sq_rest[j]), with = r - std::sqrt(sq[near[j]]);
+      delta += without * without - with * with;
+    }
+    if (spent + delta > budget) continue;
+    alive[c] = 0;
+    spent += std::max(delta, 0.0);
+    ++st.dropped;
+    st.dropped_faces += nfaces[c];
+    for (std::size_t j = 0; j < near.size(); ++j) {
+      sq[near[j]] = sq_rest[j];
+      serves[near[j]] = to[j];
+    }
+  }
+  st.misfit_added = spent;
+  if (st.dropped == 0) return st;
+  std::vector<int> remap(nv, -1);
+  for (int f = 0; f < nf; ++f)
+    if (alive[face_comp[f]])
+      for (int k = 0; k < 3; ++k) remap[mesh->F(f, k)] = 0;
+  int kept_v = 0;
+  for (int v = 0; v < nv; ++v)
+    if (remap[v] == 0) remap[v] = kept_v++;
+  Mesh out;
+  out.V.resize(kept_v, 3);
+  for (int v = 0; v < nv; ++v)
+    if (remap[v] >= 0) out.V.row(remap[v]) = mesh->V.row(v);
+  out.F.resize(nf - st.dropped_faces, 3);
+  int k = 0;
+  for (int f = 0; f < nf; ++f) {
+    if (!alive[face_comp[f]]) continue;
     out.F.row(k++) << remap[mesh->F(f, 0)], remap[mesh->F(f, 1)], remap[mesh->F(f, 2)];
   }
   *mesh = std::move(out);

@@ -32,4 +32,27 @@ struct ComponentFilterStats {
 ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samples, double tol,
                                               double max_inside_fraction = 0.5);
 
+struct SmallComponentStats {
+  int components = 0;        // before
+  int candidates = 0;        // components other than the largest below the extent
+  int dropped = 0;
+  int dropped_faces = 0;
+  double misfit_added = 0;   // what the drops added to sum_i (|s_i| - dist(p_i, S))^2 (input units^2)
+};
+
+// Removes, in place, components of `mesh` (input frame) below the samples'
+// resolution that their fit does not need (issue 10, criteria 1 and 3): the
+// components other than the largest (most faces) whose bounding box's
+// longest side is below `max_extent` are taken smallest first, and each is
+// removed while the removals together raise the samples' summed squared
+// misfit sum_i (|s_i| - dist(p_i, S))^2 (the paper's E_SDF terms) by at
+// most `budget` (input units^2). A sample whose nearest surface point lies
+// on a removed component is then served by the nearest component left.
+// Screened Poisson leaves such pieces where one or two tangency points stand
+// a little off the main surface: a closed blob a few cells across, which
+// the samples' fit prefers by less than a sample's misfit at half the
+// spacing. Unreferenced vertices are removed; the order of what is kept is
+// preserved. Deterministic.
+SmallComponentStats DropSmallComponents(Mesh* mesh, const SdfSamples& samples, double max_extent, double budget);
+
 }  // namespace arcs

@@ -19,6 +19,8 @@ void RftaOptions::Check() const {
   tuning_poisson_2d.Check();
   ARCS_CHECK_OPTION(std::isfinite(tuning_cell) && tuning_cell >= 0 && tuning_cell <= 100, "tuning_cell", tuning_cell,
                     "in [0, 100]");
+  ARCS_CHECK_OPTION(std::isfinite(small_components) && small_components >= 0 && small_components <= 10,
+                    "small_components", small_components, "in [0, 10]");
 }
 
 double TuningMaxCell(const SdfSamples& samples, double tuning_cell) {
@@ -158,6 +160,14 @@ RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options
     if (r.components.kept_by_fit > 0)
       ctx.Info("rfta: kept " + std::to_string(r.components.kept_by_fit) +
                " components lying mostly inside the samples' spheres: removing them worsened the samples' fit");
+  }
+  if (dim == 3 && options.small_components > 0) {
+    const double h = options.small_components * SampleSpacing(samples);
+    r.small = DropSmallComponents(&std::get<Mesh>(r.surface), samples, h, h * h);
+    if (r.small.dropped > 0)
+      ctx.Info("rfta: dropped " + std::to_string(r.small.dropped) + " of " + std::to_string(r.small.candidates) +
+               " components smaller than " + std::to_string(options.small_components) +
+               " x the samples' spacing (their fit did not need them)");
   }
   r.final_s = Since(t0);
   after(RftaPart::kFinal);

@@ -54,6 +54,14 @@ struct RftaOptions {
   // rule them out; framework/rfta/component_filter.h). Not in the paper: the
   // official code keeps them. The largest component is always kept.
   bool drop_infeasible_components = true;
+  // 3D: remove components of the final mesh below the samples' resolution
+  // that their fit does not need (framework/rfta/component_filter.h,
+  // DropSmallComponents): those other than the largest smaller than
+  // small_components x the samples' spacing h (SampleSpacing), smallest
+  // first, while together they add at most (small_components x h)^2 to the
+  // samples' summed squared misfit. 0 = keep them (the official code). Not
+  // in the paper; docs/decisions.md, "Small components".
+  double small_components = 0.5;
   // The default reconstructors (used where RftaParts leaves one empty).
   // 3D, the final surface and those inside fine-tuning: the official call
   // (OfficialRftaPoisson: arcs' own screened Poisson, depth 10, cube 3.2x,
@@ -87,6 +95,7 @@ struct RftaResult {
   std::int64_t sign_conflicts = 0;     // positive spheres overlapping a negative one by more than 1e-4
   double sign_conflict_depth = 0;      // the deepest such overlap (input units)
   ComponentFilterStats components;     // the final mesh's components and those dropped
+  SmallComponentStats small;           // components below the samples' resolution, and those dropped
   // Wall time of each part (seconds).
   double sampler_s = 0, projector_s = 0, fine_tune_s = 0, final_s = 0;
 };

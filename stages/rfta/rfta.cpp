@@ -35,6 +35,7 @@ RftaOptions DecodeRftaOptions(const ParamMap& p) {
   o.projector.search.pair_choice = o.fine_tune.search.pair_choice =
       EnumFromName(std::span<const EnumName<PairChoice>>(kPairChoiceNames), p.GetString("pair_choice"));
   o.drop_infeasible_components = p.GetBool("drop_infeasible_components");
+  o.small_components = p.GetDouble("small_components");
   o.tuning_cell = p.GetDouble("tuning_cell");
   const std::string sc = p.GetString("on_sign_conflict");
   o.on_sign_conflict = sc == "error"    ? RftaOptions::OnSignConflict::kError
@@ -161,6 +162,8 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
     d.SetMetric("rfta_dropped_components", static_cast<double>(r.components.dropped));
     d.SetMetric("rfta_kept_components_by_fit", static_cast<double>(r.components.kept_by_fit));
   }
+  if (dim == 3 && options.small_components > 0)
+    d.SetMetric("rfta_dropped_small_components", static_cast<double>(r.small.dropped));
   d.SetMetric("rfta_final_s", r.final_s);
 }
 
@@ -191,7 +194,13 @@ void RegisterRfta(Registry& r) {
               0.0, 100.0)
       .Bool("drop_infeasible_components", true,
             "3D: remove final components most of whose vertices lie inside a sample's sphere by more than tol "
-            "(ruled out by the samples; not in the paper, the official code keeps them)");
+            "(ruled out by the samples; not in the paper, the official code keeps them)")
+      .Double("small_components", 0.5,
+              "3D: remove final components (not the largest) smaller than this fraction of the samples' spacing, "
+              "smallest first, while together they add at most (fraction x spacing)^2 to the samples' summed "
+              "squared misfit: blobs below the samples' resolution that their fit does not need (0 = keep them, "
+              "as the official code; docs/decisions.md)",
+              0.0, 10.0);
   // final_check: the fine_tune stage's own declaration (names, default, doc).
   Binder<FineTuneOptions> final_check;
   const ParamSchema final_check_schema = FinalCheckParam(final_check).Schema();

@@ -13,8 +13,9 @@ namespace {
 const Vec3 kBigCenter(-0.45, 0, 0), kSmallCenter(0.5, 0, 0);
 constexpr double kBigR = 0.3, kSmallR = 0.12;
 
-// Exact SDF of two disjoint balls at the (n+1)^3 nodes of [-1, 1]^3.
-SdfSamples TwoBalls(int n) {
+// Exact SDF of two disjoint balls (and, with extra_r > 0, a third of that
+// radius at extra_c) at the (n+1)^3 nodes of [-1, 1]^3.
+SdfSamples TwoBalls(int n, double extra_r = 0, const Vec3& extra_c = Vec3::Zero()) {
   SdfSamples s;
   s.dim = 3;
   const int m = n + 1;
@@ -27,6 +28,7 @@ SdfSamples TwoBalls(int n) {
         const Vec3 p(-1.0 + 2.0 * i / n, -1.0 + 2.0 * j / n, -1.0 + 2.0 * k / n);
         s.points.row(t) = p.transpose();
         s.values[t] = std::min((p - kBigCenter).norm() - kBigR, (p - kSmallCenter).norm() - kSmallR);
+        if (extra_r > 0) s.values[t] = std::min(s.values[t], (p - extra_c).norm() - extra_r);
       }
   return s;
 }
@@ -77,6 +79,64 @@ TEST(ComponentFilter, ExactSurfaceIsUntouched) {
   EXPECT_EQ(st.dropped, 0);
   EXPECT_EQ(st.kept_by_fit, 0);
   EXPECT_EQ(m.F, before.F);
+}
+
+// Small components (DropSmallComponents). The samples' spacing is 0.1 here.
+// A blob 0.03 across standing 0.005 off the big ball, which the samples do
+// not have: no sample's fit needs it (their misfit only falls without it),
+// so it goes; the small ball is real, 0.24 across, above the extent, and
+// stays whatever its fit.
+TEST(SmallComponents, DropsABlobTheFitDoesNotNeed) {
+  const SdfSamples samples = TwoBalls(20);
+  const Mesh big = MakeIcosphere(kBigR, 3, kBigCenter), small = MakeIcosphere(kSmallR, 3, kSmallCenter);
+  const Mesh blob = MakeIcosphere(0.015, 1, kBigCenter + Vec3(0, kBigR + 0.02, 0));
+  Mesh m = Concat({big, blob, small});
+  const SmallComponentStats st = DropSmallComponents(&m, samples, 0.05, 0.05 * 0.05);
+  EXPECT_EQ(st.components, 3);
+  EXPECT_EQ(st.candidates, 1);
+  EXPECT_EQ(st.dropped, 1);
+  EXPECT_LE(st.misfit_added, 0.0) << "the blob only made the fit worse";
+  EXPECT_EQ(m.NumFaces(), big.NumFaces() + small.NumFaces());
+  ASSERT_EQ(m.NumVertices(), big.NumVertices() + small.NumVertices());
+  EXPECT_EQ(m.V.topRows(big.NumVertices()), big.V);
+  EXPECT_EQ(m.V.bottomRows(small.NumVertices()), small.V);
+}
+
+// A real part is a candidate when the extent allows it, but its samples have
+// no other surface near them: removing it would cost far more than the
+// budget, so it stays, while the blob beside it goes.
+TEST(SmallComponents, KeepsAPartTheFitNeeds) {
+  const SdfSamples samples = TwoBalls(20);
+  const Mesh big = MakeIcosphere(kBigR, 3, kBigCenter), small = MakeIcosphere(kSmallR, 3, kSmallCenter);
+  Mesh m = Concat({big, small, MakeIcosphere(0.015, 1, kBigCenter + Vec3(0, kBigR + 0.02, 0))});
+  const SmallComponentStats st = DropSmallComponents(&m, samples, 1.0, 0.05 * 0.05);
+  EXPECT_EQ(st.candidates, 2);
+  EXPECT_EQ(st.dropped, 1);
+  EXPECT_EQ(m.NumFaces(), big.NumFaces() + small.NumFaces());
+}
+
+// A tiny ball that the samples do have (a third ball in their SDF, 0.03
+// across, 0.06 off the big one): without it its samples' misfit rises by
+// about that gap. The budget decides: none keeps it, a generous one lets it
+// go and reports what it added. Nothing at all happens with no extent.
+TEST(SmallComponents, TheBudgetDecidesForAPieceTheSamplesHave) {
+  const Vec3 tiny_c = kBigCenter + Vec3(0, kBigR + 0.075, 0);
+  const SdfSamples samples = TwoBalls(20, 0.015, tiny_c);
+  const Mesh parts = Concat({MakeIcosphere(kBigR, 3, kBigCenter), MakeIcosphere(kSmallR, 3, kSmallCenter),
+                             MakeIcosphere(0.015, 2, tiny_c)});
+  Mesh kept = parts;
+  const SmallComponentStats none = DropSmallComponents(&kept, samples, 0.05, 0.0);
+  EXPECT_EQ(none.candidates, 1);
+  EXPECT_EQ(none.dropped, 0);
+  EXPECT_EQ(kept.F, parts.F);
+  Mesh gone = parts;
+  const SmallComponentStats generous = DropSmallComponents(&gone, samples, 0.05, 1.0);
+  EXPECT_EQ(generous.dropped, 1);
+  EXPECT_GT(generous.misfit_added, 1e-4) << "its samples were served by it";
+  EXPECT_LT(generous.misfit_added, 1.0);
+  Mesh untouched = parts;
+  EXPECT_EQ(DropSmallComponents(&untouched, samples, 0.0, 1.0).dropped, 0);
+  EXPECT_EQ(untouched.F, parts.F);
 }
 
 }  // namespace
