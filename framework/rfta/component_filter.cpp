@@ -13,6 +13,36 @@
 #include <vector>
 
 namespace arcs {
+namespace {
+
+// The mesh without the faces of the components `drop` marks, and without
+// the vertices only they used; what is kept stays in its order.
+void RemoveComponents(Mesh* mesh, const std::vector<int>& face_comp, const std::vector<char>& drop) {
+  const int nv = mesh->NumVertices(), nf = mesh->NumFaces();
+  std::vector<int> remap(nv, -1);
+  int kept_f = 0;
+  for (int f = 0; f < nf; ++f) {
+    if (drop[face_comp[f]]) continue;
+    ++kept_f;
+    for (int k = 0; k < 3; ++k) remap[mesh->F(f, k)] = 0;
+  }
+  int kept_v = 0;
+  for (int v = 0; v < nv; ++v)
+    if (remap[v] == 0) remap[v] = kept_v++;
+  Mesh out;
+  out.V.resize(kept_v, 3);
+  for (int v = 0; v < nv; ++v)
+    if (remap[v] >= 0) out.V.row(remap[v]) = mesh->V.row(v);
+  out.F.resize(kept_f, 3);
+  int k = 0;
+  for (int f = 0; f < nf; ++f) {
+    if (drop[face_comp[f]]) continue;
+    out.F.row(k++) << remap[mesh->F(f, 0)], remap[mesh->F(f, 1)], remap[mesh->F(f, 2)];
+  }
+  *mesh = std::move(out);
+}
+
+}  // namespace
 
 ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samples, double tol,
                                               double max_inside_fraction) {
@@ -97,22 +127,7 @@ ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samp
       ++st.kept_by_fit;
     }
   }
-  if (st.dropped == 0) return st;
-  std::vector<int> remap(nv, -1);
-  int kept_v = 0;
-  for (int v = 0; v < nv; ++v)
-    if (comp[v] >= 0 && !drop[comp[v]]) remap[v] = kept_v++;
-  Mesh out;
-  out.V.resize(kept_v, 3);
-  for (int v = 0; v < nv; ++v)
-    if (remap[v] >= 0) out.V.row(remap[v]) = mesh->V.row(v);
-  out.F.resize(nf - st.dropped_faces, 3);
-  int k = 0;
-  for (int f = 0; f < nf; ++f) {
-    if (drop[face_comp[f]]) continue;
-    out.F.row(k++) << remap[mesh->F(f, 0)], remap[mesh->F(f, 1)], remap[mesh->F(f, 2)];
-  }
-  *mesh = std::move(out);
+  if (st.dropped > 0) RemoveComponents(mesh, face_comp, drop);
   return st;
 }
 
@@ -180,7 +195,7 @@ SmallComponentStats DropSmallComponents(Mesh* mesh, const SdfSamples& samples, d
   ParallelFor(nc, [&](std::int64_t b, std::int64_t e) {
     for (std::int64_t c = b; c < e; ++c) tree[c] = std::make_unique<TriangleBvh>(part[c], TriangleBvh::BuildKind::kMortonAxisAligned);
   }, 1);
-  std::vector<char> alive(nc, 1);
+  std::vector<char> gone(nc, 0);
   double spent = 0;
   for (int c : candidates) {
     std::vector<int> near;
@@ -192,7 +207,7 @@ SmallComponentStats DropSmallComponents(Mesh* mesh, const SdfSamples& samples, d
     ParallelFor(static_cast<std::int64_t>(near.size()), [&](std::int64_t b, std::int64_t e) {
       for (std::int64_t j = b; j < e; ++j)
         for (int k = 0; k < nc; ++k) {
-          if (!alive[k] || k == c) continue;
+          if (gone[k] || k == c) continue;
           const TriangleBvh::Hit h = tree[k]->Closest(centers.row(near[j]).transpose(), sq_rest[j]);
           if (h.face >= 0 && h.sq_dist < sq_rest[j]) {
             sq_rest[j] = h.sq_dist;
@@ -207,7 +222,7 @@ SmallComponentStats DropSmallComponents(Mesh* mesh, const SdfSamples& samples, d
       delta += without * without - with * with;
     }
     if (spent + delta > budget) continue;
-    alive[c] = 0;
+    gone[c] = 1;
     spent += std::max(delta, 0.0);
     ++st.dropped;
     st.dropped_faces += nfaces[c];
@@ -217,25 +232,7 @@ SmallComponentStats DropSmallComponents(Mesh* mesh, const SdfSamples& samples, d
     }
   }
   st.misfit_added = spent;
-  if (st.dropped == 0) return st;
-  std::vector<int> remap(nv, -1);
-  for (int f = 0; f < nf; ++f)
-    if (alive[face_comp[f]])
-      for (int k = 0; k < 3; ++k) remap[mesh->F(f, k)] = 0;
-  int kept_v = 0;
-  for (int v = 0; v < nv; ++v)
-    if (remap[v] == 0) remap[v] = kept_v++;
-  Mesh out;
-  out.V.resize(kept_v, 3);
-  for (int v = 0; v < nv; ++v)
-    if (remap[v] >= 0) out.V.row(remap[v]) = mesh->V.row(v);
-  out.F.resize(nf - st.dropped_faces, 3);
-  int k = 0;
-  for (int f = 0; f < nf; ++f) {
-    if (!alive[face_comp[f]]) continue;
-    out.F.row(k++) << remap[mesh->F(f, 0)], remap[mesh->F(f, 1)], remap[mesh->F(f, 2)];
-  }
-  *mesh = std::move(out);
+  if (st.dropped > 0) RemoveComponents(mesh, face_comp, gone);
   return st;
 }
 
