@@ -42,6 +42,13 @@ void RemoveComponents(Mesh* mesh, const std::vector<int>& face_comp, const std::
   *mesh = std::move(out);
 }
 
+// The samples' positions, one row each.
+MatrixX3d SampleCenters(const SdfSamples& samples) {
+  MatrixX3d centers(samples.Size(), 3);
+  for (Eigen::Index i = 0; i < samples.Size(); ++i) centers.row(i) = SamplePoint(samples, i).transpose();
+  return centers;
+}
+
 }  // namespace
 
 ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samples, double tol,
@@ -57,11 +64,10 @@ ComponentFilterStats DropInfeasibleComponents(Mesh* mesh, const SdfSamples& samp
     for (int k = 0; k < 3; ++k) comp[mesh->F(f, k)] = face_comp[f];
   st.components = nc;
   if (nc <= 1) return st;
-  MatrixX3d centers(samples.Size(), 3);
+  const MatrixX3d centers = SampleCenters(samples);
   VectorXd radii(samples.Size());
   std::vector<int> ids(samples.Size());
   for (Eigen::Index i = 0; i < samples.Size(); ++i) {
-    centers.row(i) = SamplePoint(samples, i).transpose();
     radii[i] = std::abs(samples.values[i]);
     ids[i] = static_cast<int>(i);
   }
@@ -162,13 +168,14 @@ SmallComponentStats DropSmallComponents(Mesh* mesh, const SdfSamples& samples, d
   // Each sample's nearest surface point on the whole mesh: its distance and
   // its component. As components go, the samples they served move to the
   // nearest of the components left.
-  MatrixX3d centers(samples.Size(), 3);
-  for (Eigen::Index i = 0; i < samples.Size(); ++i) centers.row(i) = SamplePoint(samples, i).transpose();
+  const MatrixX3d centers = SampleCenters(samples);
   VectorXd sq;
   Eigen::VectorXi face;
   TriangleBvh(*mesh, TriangleBvh::BuildKind::kMortonAxisAligned).ClosestPoints(centers, &sq, nullptr, &face);
-  std::vector<int> serves(samples.Size());
-  for (Eigen::Index i = 0; i < samples.Size(); ++i) serves[i] = face[i] >= 0 ? face_comp[face[i]] : -1;
+  // The samples each component serves (nearest surface point on it).
+  std::vector<std::vector<int>> served(nc);
+  for (Eigen::Index i = 0; i < samples.Size(); ++i)
+    if (face[i] >= 0) served[face_comp[face[i]]].push_back(static_cast<int>(i));
   // One tree per component (the nearest of those left is a minimum over them).
   std::vector<Mesh> part(nc);
   {
@@ -198,9 +205,9 @@ SmallComponentStats DropSmallComponents(Mesh* mesh, const SdfSamples& samples, d
   std::vector<char> gone(nc, 0);
   double spent = 0;
   for (int c : candidates) {
-    std::vector<int> near;
-    for (Eigen::Index i = 0; i < samples.Size(); ++i)
-      if (serves[i] == c) near.push_back(static_cast<int>(i));
+    // In sample order (samples handed on by earlier removals come last).
+    std::vector<int> near = served[c];
+    std::sort(near.begin(), near.end());
     // Without c: each of its samples' distance to the nearest component left.
     std::vector<double> sq_rest(near.size(), std::numeric_limits<double>::infinity());
     std::vector<int> to(near.size(), -1);
@@ -228,7 +235,7 @@ SmallComponentStats DropSmallComponents(Mesh* mesh, const SdfSamples& samples, d
     st.dropped_faces += nfaces[c];
     for (std::size_t j = 0; j < near.size(); ++j) {
       sq[near[j]] = sq_rest[j];
-      serves[near[j]] = to[j];
+      served[to[j]].push_back(near[j]);
     }
   }
   st.misfit_added = spent;

@@ -162,8 +162,8 @@ RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options
                " components lying mostly inside the samples' spheres: removing them worsened the samples' fit");
   }
   if (dim == 3 && options.small_components > 0) {
-    const double h = options.small_components * SampleSpacing(samples);
-    r.small = DropSmallComponents(&std::get<Mesh>(r.surface), samples, h, h * h);
+    const double limit = options.small_components * SampleSpacing(samples);  // extent, and misfit budget's root
+    r.small = DropSmallComponents(&std::get<Mesh>(r.surface), samples, limit, limit * limit);
     if (r.small.dropped > 0)
       ctx.Info("rfta: dropped " + std::to_string(r.small.dropped) + " of " + std::to_string(r.small.candidates) +
                " components smaller than " + std::to_string(options.small_components) +
