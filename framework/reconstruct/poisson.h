@@ -132,7 +132,9 @@ struct PoissonOptions {
 // fine-tuning surfaces and the final one; ../shared/notes/rfta_official_facts.md
 // §2) with arcs' own solver: FEM degree 1, Neumann, depth 10 in a cube 3.2x
 // the cloud, 1.5 samples per node, PoissonRecon's point weight 10
-// (area-normalised), no open-surface re-solves. Measured in docs/poisson.md.
+// (area-normalised), 8 Gauss-Seidel sweeps per level above the complete one
+// (PoissonRecon's cascadic solver), no open-surface re-solves. Measured in
+// docs/poisson.md.
 PoissonOptions OfficialRftaPoisson();
 
 // The screened_poisson stage's `normal_splat` names.
