@@ -14,7 +14,8 @@
 // fine-tuning's time went (solves, surface queries, per-sphere updates).
 // RFTA_BENCH_TUNING_EXTRACT_Q=Q: the tuning surfaces' extract_quantile
 // (default 0.5, as the final mesh); RFTA_BENCH_TUNING_CG_ITERS=K
-// their CG steps per level (default 40). RFTA_BENCH_FINE_SOLVER=cg_jacobi |
+// their CG steps per level (default 40; only with a CG fine_solver, and
+// since session 37 the default is gauss_seidel). RFTA_BENCH_FINE_SOLVER=cg_jacobi |
 // cg_gauss_seidel | gauss_seidel and RFTA_BENCH_GS_ITERS=K: screened Poisson's
 // solver above the complete level, for both surfaces (the stage's
 // fine_solver and gs_iters). RFTA_BENCH_TUNING_CELL=F: rfta's tuning_cell (the
