@@ -41,6 +41,7 @@ void PoissonOptions::Check() const {
                     "an integer in [1, 256]");
   ARCS_CHECK_OPTION(cg_iters >= 1 && cg_iters <= 10000, "cg_iters", cg_iters, "an integer in [1, 10000]");
   ARCS_CHECK_OPTION(cg_accuracy > 0.0 && cg_accuracy < 1.0, "cg_accuracy", cg_accuracy, "in (0, 1)");
+  ARCS_CHECK_OPTION(base_accuracy > 0.0 && base_accuracy < 1.0, "base_accuracy", base_accuracy, "in (0, 1)");
   ARCS_CHECK_OPTION(gs_iters >= 1 && gs_iters <= 10000, "gs_iters", gs_iters, "an integer in [1, 10000]");
   ARCS_CHECK_OPTION(extract_quantile >= 0.0 && extract_quantile <= 1.0, "extract_quantile", extract_quantile,
                     "in [0, 1]");
@@ -379,6 +380,7 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
     so.point_weight = options.point_weight;
     so.iters = options.cg_iters;
     so.accuracy = options.cg_accuracy;
+    so.base_accuracy = options.base_accuracy;
     so.fine_solver = options.fine_solver;
     so.gs_iters = options.gs_iters;
     so.extract_quantile = options.extract_quantile;

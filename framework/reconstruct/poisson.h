@@ -97,6 +97,9 @@ struct PoissonOptions {
   // from the previous solution.
   int cg_iters = 40;
   double cg_accuracy = 1e-3;
+  // kArcs: relative residual of the complete level's multigrid-preconditioned
+  // CG (SpsrOptions::base_accuracy).
+  double base_accuracy = 1e-6;
   bool warm_start = true;
   // kArcs: how the levels above the complete one are solved, and the sweeps
   // of kGaussSeidel (SpsrOptions::FineSolver).

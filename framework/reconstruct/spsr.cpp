@@ -838,7 +838,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
     }
     const bool coarse = d == F_;
     total_iters += SolveLevel(L, rhs, beta, coarse ? std::max(200, o_.iters) : o_.iters,
-                              coarse ? o_.accuracy * 1e-3 : o_.accuracy);
+                              coarse ? o_.base_accuracy : o_.accuracy);
     for (std::size_t i = 0; i < L.nodes.size(); ++i) L.U[i] = P[i] + L.x[i];
     ctx_.CheckStop();
   }
@@ -898,6 +898,8 @@ Mesh ReconstructSpsr(const PointCloud& oriented, const SpsrOptions& options, con
                     "point_weight", options.point_weight, "in [0, 1e6]");
   ARCS_CHECK_OPTION(options.iters >= 1 && options.iters <= 10000, "iters", options.iters, "in [1, 10000]");
   ARCS_CHECK_OPTION(options.accuracy > 0 && options.accuracy < 1, "accuracy", options.accuracy, "in (0, 1)");
+  ARCS_CHECK_OPTION(options.base_accuracy > 0 && options.base_accuracy < 1, "base_accuracy", options.base_accuracy,
+                    "in (0, 1)");
   ARCS_CHECK_OPTION(options.gs_iters >= 1 && options.gs_iters <= 10000, "gs_iters", options.gs_iters,
                     "in [1, 10000]");
   ARCS_CHECK_OPTION(options.kernel_depth_offset >= 0 && options.kernel_depth_offset <= 6, "kernel_depth_offset",

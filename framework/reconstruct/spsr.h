@@ -62,6 +62,10 @@ struct SpsrOptions {
   double point_weight = 10.0;   // α, PoissonRecon's --pointWeight (area-normalised); 0 = unscreened
   int iters = 40;               // CG steps per level above full_depth (cap)
   double accuracy = 1e-3;       // CG relative residual
+  // The complete level full_depth: multigrid-preconditioned CG to this
+  // relative residual (at most max(200, iters) steps). PoissonRecon solves
+  // its base levels with one V-cycle (baseVCycles 1).
+  double base_accuracy = 1e-6;
   // How the levels above full_depth are solved (full_depth itself: always
   // CG with the multigrid preconditioner). kCgJacobi: CG preconditioned by
   // the diagonal. kCgGaussSeidel: CG preconditioned by one symmetric

@@ -39,6 +39,10 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
       .Int("cg_iters", &O::cg_iters, "backend arcs: conjugate-gradient steps per octree level (cap)",
            Closed(1, 10000))
       .Double("cg_accuracy", &O::cg_accuracy, "backend arcs: relative residual the CG stops at", Open(0.0, 1.0))
+      .Double("base_accuracy", &O::base_accuracy,
+              "backend arcs: relative residual of the complete level's multigrid-preconditioned CG "
+              "(PoissonRecon: one V-cycle)",
+              Open(0.0, 1.0))
       .Enum("fine_solver", &O::fine_solver, kSpsrFineSolverNames,
             "backend arcs: the levels above the complete one: cg_jacobi (CG, diagonal preconditioner), "
             "cg_gauss_seidel (CG, symmetric 8-colour Gauss-Seidel preconditioner), gauss_seidel (gs_iters "

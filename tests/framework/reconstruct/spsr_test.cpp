@@ -318,6 +318,38 @@ TEST(Spsr, FineSolversAgreeAndAreThreadCountIndependent) {
   }
 }
 
+// The complete level's tolerance (SpsrOptions::base_accuracy): a looser one
+// takes fewer multigrid-preconditioned CG steps there and gives the same torus
+// (sparse exact samples, where the complete level carries most of the
+// solution), as close to the true tube as the tight default.
+TEST(Spsr, LooserBaseAccuracyTakesFewerStepsForTheSameSurface) {
+  const PointCloud pc = TorusPoints(800, 11);
+  auto tube_error = [](const Mesh& m) {
+    double e = 0;
+    for (int i = 0; i < m.NumVertices(); ++i) {
+      const Vec3 v = m.V.row(i);
+      e += std::abs(std::hypot(std::hypot(v.x(), v.y()) - 0.35, v.z()) - 0.15);
+    }
+    return e / m.NumVertices();
+  };
+  SpsrOptions tight;  // 1e-6
+  SpsrOptions loose;
+  loose.base_accuracy = 1e-3;
+  SpsrInfo ti, li;
+  const Mesh a = ReconstructSpsr(pc, tight, Context(1), nullptr, &ti);
+  const Mesh b = ReconstructSpsr(pc, loose, Context(1), nullptr, &li);
+  EXPECT_LT(li.cg_iterations, ti.cg_iterations);
+  const Topology t = ComputeTopology(b);
+  EXPECT_EQ(t.components, 1);
+  EXPECT_EQ(t.boundary_edges, 0);
+  EXPECT_EQ(t.genus, 1);
+  EXPECT_NEAR(Volume(b), Volume(a), 0.01 * Volume(a));
+  EXPECT_LT(tube_error(b), 1.1 * tube_error(a) + 1e-4);
+  SpsrOptions bad;
+  bad.base_accuracy = 0;
+  EXPECT_THROW(ReconstructSpsr(pc, bad, Context(1)), OptionError);
+}
+
 TEST(Spsr, StrayPointsInsideMakeNoVoids) {
   // Tangency points that fine-tuning leaves a little inside a solid: each is
   // pinned to the iso-value by the screening and made a one-node void (an
