@@ -263,6 +263,16 @@ TEST(Spsr, SameMeshAtOneAndTwoThreads) {
   EXPECT_EQ(one.F, two.F);
 }
 
+// Mean distance of a mesh's vertices from TorusPoints' torus (radii 0.35, 0.15).
+double TubeError(const Mesh& m) {
+  double e = 0;
+  for (int i = 0; i < m.NumVertices(); ++i) {
+    const Vec3 v = m.V.row(i);
+    e += std::abs(std::hypot(std::hypot(v.x(), v.y()) - 0.35, v.z()) - 0.15);
+  }
+  return e / m.NumVertices();
+}
+
 // The solvers of the levels above the complete one (SpsrOptions::FineSolver):
 // each gives the torus with its genus, hugging the true surface as closely as
 // the default; the Gauss-Seidel-preconditioned CG stops at the same residual
@@ -270,18 +280,10 @@ TEST(Spsr, SameMeshAtOneAndTwoThreads) {
 // colours update in parallel, each node writing only its own samples).
 TEST(Spsr, FineSolversAgreeAndAreThreadCountIndependent) {
   const PointCloud pc = TorusPoints(20000, 7);
-  auto tube_error = [](const Mesh& m) {
-    double e = 0;
-    for (int i = 0; i < m.NumVertices(); ++i) {
-      const Vec3 v = m.V.row(i);
-      e += std::abs(std::hypot(std::hypot(v.x(), v.y()) - 0.35, v.z()) - 0.15);
-    }
-    return e / m.NumVertices();
-  };
   SpsrOptions jac;
   SpsrInfo jac_info;
   const Mesh base = ReconstructSpsr(pc, jac, Context(1), nullptr, &jac_info);
-  const double base_err = tube_error(base);
+  const double base_err = TubeError(base);
   for (auto mode : {SpsrOptions::FineSolver::kCgGaussSeidel, SpsrOptions::FineSolver::kGaussSeidel}) {
     SCOPED_TRACE(static_cast<int>(mode));
     SpsrOptions o;
@@ -305,7 +307,7 @@ TEST(Spsr, FineSolversAgreeAndAreThreadCountIndependent) {
     EXPECT_EQ(t.genus, 1);
     // Exact samples: the surface within a few % of a cell of the tube
     // (cell ~ 3.2 x 1 / 2^10 ~ 0.003) and no farther than the default's + 10 %.
-    const double err = tube_error(one);
+    const double err = TubeError(one);
     EXPECT_LT(err, 1.1 * base_err + 1e-4) << err << " vs cg_jacobi " << base_err;
     EXPECT_NEAR(Volume(one), Volume(base), 0.01 * Volume(base));
     if (mode == SpsrOptions::FineSolver::kCgGaussSeidel) {
@@ -324,14 +326,6 @@ TEST(Spsr, FineSolversAgreeAndAreThreadCountIndependent) {
 // solution), as close to the true tube as the tight default.
 TEST(Spsr, LooserBaseAccuracyTakesFewerStepsForTheSameSurface) {
   const PointCloud pc = TorusPoints(800, 11);
-  auto tube_error = [](const Mesh& m) {
-    double e = 0;
-    for (int i = 0; i < m.NumVertices(); ++i) {
-      const Vec3 v = m.V.row(i);
-      e += std::abs(std::hypot(std::hypot(v.x(), v.y()) - 0.35, v.z()) - 0.15);
-    }
-    return e / m.NumVertices();
-  };
   SpsrOptions tight;  // 1e-6
   SpsrOptions loose;
   loose.base_accuracy = 1e-3;
@@ -344,7 +338,7 @@ TEST(Spsr, LooserBaseAccuracyTakesFewerStepsForTheSameSurface) {
   EXPECT_EQ(t.boundary_edges, 0);
   EXPECT_EQ(t.genus, 1);
   EXPECT_NEAR(Volume(b), Volume(a), 0.01 * Volume(a));
-  EXPECT_LT(tube_error(b), 1.1 * tube_error(a) + 1e-4);
+  EXPECT_LT(TubeError(b), 1.1 * TubeError(a) + 1e-4);
   SpsrOptions bad;
   bad.base_accuracy = 0;
   EXPECT_THROW(ReconstructSpsr(pc, bad, Context(1)), OptionError);
