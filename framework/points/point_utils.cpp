@@ -1,6 +1,7 @@
 #include "framework/points/point_utils.h"
 
 #include "framework/error.h"
+#include "framework/geometry/submesh.h"
 
 #include <Eigen/Geometry>
 #include "framework/spatial/knn.h"
@@ -156,25 +157,12 @@ int OrientComponents(Mesh* mesh, const MatrixX3d* vertex_normals) {
 }
 
 Mesh CompactMesh(const Mesh& mesh) {
-  std::vector<int> map(mesh.NumVertices(), -1);
-  std::vector<int> faces;
+  std::vector<char> keep(mesh.NumFaces());
   for (int f = 0; f < mesh.NumFaces(); ++f) {
     const int a = mesh.F(f, 0), b = mesh.F(f, 1), c = mesh.F(f, 2);
-    if (a == b || b == c || a == c) continue;
-    faces.push_back(f);
-    map[a] = map[b] = map[c] = 0;
+    keep[f] = a != b && b != c && a != c;
   }
-  int nv = 0;
-  for (auto& m : map)
-    if (m == 0) m = nv++;
-  Mesh out;
-  out.V.resize(nv, 3);
-  for (int v = 0; v < mesh.NumVertices(); ++v)
-    if (map[v] >= 0) out.V.row(map[v]) = mesh.V.row(v);
-  out.F.resize(static_cast<int>(faces.size()), 3);
-  for (int i = 0; i < static_cast<int>(faces.size()); ++i)
-    for (int k = 0; k < 3; ++k) out.F(i, k) = map[mesh.F(faces[i], k)];
-  return out;
+  return KeepFaces(mesh, keep);
 }
 
 }  // namespace arcs

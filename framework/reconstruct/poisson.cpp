@@ -60,11 +60,11 @@ PoissonOptions OfficialRftaPoisson() {
   o.point_weight = 10.0;
   o.area_normalized = true;
   o.open_retries = 0;
-  // PoissonRecon's cascadic relaxation above the complete level: 8
-  // Gauss-Seidel sweeps per level (its `iters` 8, the official call's
-  // default). docs/poisson.md, "Fine-level solvers" (session 37).
+  // PoissonRecon's cascadic relaxation above the complete level:
+  // Gauss-Seidel sweeps per level, gs_iters' default 8 being its `iters` 8
+  // (the official call's default). docs/poisson.md, "Fine-level solvers"
+  // (session 37).
   o.fine_solver = SpsrOptions::FineSolver::kGaussSeidel;
-  o.gs_iters = 8;
   return o;
 }
 

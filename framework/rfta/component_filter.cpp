@@ -1,5 +1,6 @@
 #include "framework/rfta/component_filter.h"
 
+#include "framework/geometry/submesh.h"
 #include "framework/rfta/sphere_set.h"
 #include "framework/rfta/sphere_tree.h"
 #include "framework/spatial/topology.h"
@@ -18,28 +19,9 @@ namespace {
 // The mesh without the faces of the components `drop` marks, and without
 // the vertices only they used; what is kept stays in its order.
 void RemoveComponents(Mesh* mesh, const std::vector<int>& face_comp, const std::vector<char>& drop) {
-  const int nv = mesh->NumVertices(), nf = mesh->NumFaces();
-  std::vector<int> remap(nv, -1);
-  int kept_f = 0;
-  for (int f = 0; f < nf; ++f) {
-    if (drop[face_comp[f]]) continue;
-    ++kept_f;
-    for (int k = 0; k < 3; ++k) remap[mesh->F(f, k)] = 0;
-  }
-  int kept_v = 0;
-  for (int v = 0; v < nv; ++v)
-    if (remap[v] == 0) remap[v] = kept_v++;
-  Mesh out;
-  out.V.resize(kept_v, 3);
-  for (int v = 0; v < nv; ++v)
-    if (remap[v] >= 0) out.V.row(remap[v]) = mesh->V.row(v);
-  out.F.resize(kept_f, 3);
-  int k = 0;
-  for (int f = 0; f < nf; ++f) {
-    if (drop[face_comp[f]]) continue;
-    out.F.row(k++) << remap[mesh->F(f, 0)], remap[mesh->F(f, 1)], remap[mesh->F(f, 2)];
-  }
-  *mesh = std::move(out);
+  std::vector<char> keep(face_comp.size());
+  for (std::size_t f = 0; f < face_comp.size(); ++f) keep[f] = !drop[face_comp[f]];
+  *mesh = KeepFaces(*mesh, keep);
 }
 
 // The samples' positions, one row each.
