@@ -127,7 +127,8 @@ void MakeFeasibleOptions::Check() const {
 }
 
 bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, const MakeFeasibleOptions& o,
-                  Vec3* x, int* steps, const SphereTree::LocalSet* local, const KnownContainment* known) {
+                  Vec3* x, int* steps, const SphereTree::LocalSet* local, const KnownContainment* known,
+                  bool* free_at_end) {
   auto on_sphere = [&](const Vec3& v) { return OntoSphere(c, r, v); };
   auto center = [&](int k) {
     const SphereTree::Ball& b = tree.ball(k);
@@ -164,13 +165,19 @@ bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, 
 
   // Most points given are feasible already: the early-exit containment test
   // settles those without gathering (the same answer as gather()'s).
-  auto check = [&]() { return !tree.AnyContains(*x, -o.tol, self_id, local) || gather(); };
+  // `clear`: whether the last answer was AnyContains' "no" at *x.
+  bool clear = false;
+  auto check = [&]() {
+    clear = !tree.AnyContains(*x, -o.tol, self_id, local);
+    return clear || gather();
+  };
   *x = on_sphere(*x);
   int step = 0;
   bool feasible;
   if (known && *x == known->at) {
     if (!known->contained) {
       if (steps) *steps = 0;
+      if (free_at_end) *free_at_end = true;
       return true;
     }
     feasible = gather();
@@ -311,6 +318,7 @@ bool MakeFeasible(const SphereTree& tree, const Vec3& c, double r, int self_id, 
     feasible = check();
   }
   if (steps) *steps = step;
+  if (free_at_end) *free_at_end = feasible && clear;
   return feasible;
 }
 

@@ -69,13 +69,18 @@ struct MakeFeasibleOptions {
 // `constraints` other than self_id contains it by more than tol
 // (SphereTree::AnyContains with offset -tol). Used only when that point is
 // known.at to the bit; the answer is then the same without the query.
+// `free_at_end` (optional) receives whether AnyContains(*x, -tol, self_id,
+// local) is known to be false at the returned *x (the last test made was
+// that query, or `known` said so): a caller that would ask it again may
+// skip it. False does not mean contained (gather() may have decided).
 struct KnownContainment {
   Vec3 at = Vec3::Zero();
   bool contained = false;
 };
 bool MakeFeasible(const SphereTree& constraints, const Vec3& center, double radius, int self_id,
                   const MakeFeasibleOptions& options, Vec3* x, int* steps = nullptr,
-                  const SphereTree::LocalSet* local = nullptr, const KnownContainment* known = nullptr);
+                  const SphereTree::LocalSet* local = nullptr, const KnownContainment* known = nullptr,
+                  bool* free_at_end = nullptr);
 
 // v moved radially onto the sphere (center, radius); the centre itself goes
 // to center + radius e_x. MakeFeasible's projection (callers that predict its

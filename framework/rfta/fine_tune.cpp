@@ -560,10 +560,13 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
           }
           // Algorithm 2 starts from the containment just found (the same
           // answer as its own first query, which it then skips).
+          // When its last test was the query below, at the same point, its
+          // answer stands.
           const KnownContainment known_inside{x, true};
+          bool free_at_end = false;
           if (mode == FineTuneOptions::FinalCheck::kRepair &&
-              MakeFeasible(full, c, r, g, mf, &x, nullptr, local, &known_inside) &&
-              !full.AnyContains(x, -tol, g, local)) {
+              MakeFeasible(full, c, r, g, mf, &x, nullptr, local, &known_inside, &free_at_end) &&
+              (free_at_end || !full.AnyContains(x, -tol, g, local))) {
             keep.push_back(x);
             ++repaired[g];
           } else {

@@ -273,7 +273,22 @@ TEST(MakeFeasible, TwoAndThreeSphereConfigurations) {
       EXPECT_EQ(MakeFeasible(tree, c, 0.15, 0, o, &hinted, &hinted_steps, nullptr, &kc), plain_ok);
       EXPECT_EQ(hinted, plain);
       EXPECT_EQ(hinted_steps, plain_steps);
+      // free_at_end: when set, the containment query at the result says no.
+      Vec3 flagged = start;
+      bool free_at_end = false;
+      const bool flagged_ok = MakeFeasible(tree, c, 0.15, 0, o, &flagged, nullptr, nullptr, &kc, &free_at_end);
+      EXPECT_EQ(flagged, plain);
+      EXPECT_EQ(flagged_ok, plain_ok);
+      if (free_at_end) EXPECT_FALSE(tree.AnyContains(flagged, -o.tol, 0));
+      if (!flagged_ok) EXPECT_FALSE(free_at_end);
     }
+  }
+  // A point moved and then found free by the query reports it.
+  {
+    Vec3 moved = c + 0.15 * Vec3(1, 1, 0).normalized();
+    bool free_at_end = false;
+    ASSERT_TRUE(MakeFeasible(tree, c, 0.15, 0, o, &moved, nullptr, nullptr, nullptr, &free_at_end));
+    EXPECT_TRUE(free_at_end);
   }
   // Completely swallowed: sphere 0 inside a big sphere -> infeasible.
   MatrixX3d C2 = C;
