@@ -332,7 +332,8 @@ int main(int argc, char** argv) {
   const std::string which = argc > 1 ? argv[1] : "all";
   Registry registry;
   RegisterBuiltinStages(registry);
-  if (which == "figure14") return Figure14(registry, argc > 2 ? std::atoi(argv[2]) : 150, argc > 3 ? std::atoi(argv[3]) : 0);
+  if (which == "figure14")
+    return Figure14(registry, argc > 2 ? std::atoi(argv[2]) : 150, argc > 3 ? std::atoi(argv[3]) : 0);
   if (which == "scaling")
     return Scaling(registry, argc > 2 ? argv[2] : "torus", argc > 3 ? std::atoi(argv[3]) : 100);
   const BenchCase cases[] = {

@@ -136,7 +136,7 @@ void Compare(const std::string& name, const PointCloud& pc, const Mesh& truth, i
       base = m;
       base_solve = med;
     }
-    std::string label = EnumToName(std::span<const EnumName<SpsrOptions::FineSolver>>(kSpsrFineSolverNames), solver);
+    std::string label = EnumToName(kSpsrFineSolverNames, solver);
     if (solver == SpsrOptions::FineSolver::kGaussSeidel) label += " x" + std::to_string(gs);
     std::printf("  %-47s %8.3f %7.3f %7d %10.2e %10.6f %10.6f\n", label.c_str(), med, med / base_solve,
                 info.cg_iterations, info.final_residual, ChamferPointToSurface(m, truth, 100000, 1),

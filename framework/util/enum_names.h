@@ -32,6 +32,12 @@ std::string EnumToName(std::span<const EnumName<E>> table, E v) {
   throw Error("internal: enum value " + std::to_string(static_cast<long long>(v)) + " has no name");
 }
 
+// The same for a table declared as an array (deduces E and the size).
+template <class E, std::size_t N>
+std::string EnumToName(const EnumName<E> (&table)[N], E v) {
+  return EnumToName(std::span<const EnumName<E>>(table), v);
+}
+
 // The value named `name`; throws OptionError listing the names if none matches.
 template <class E>
 E EnumFromName(std::span<const EnumName<E>> table, const std::string& name) {

@@ -22,7 +22,7 @@ inline StageSpec OfficialPoissonSpec() {
   s.params.Set("point_weight", o.point_weight);
   s.params.Set("open_retries", std::int64_t{o.open_retries});
   s.params.Set("area_normalized", o.area_normalized);
-  s.params.Set("fine_solver", std::string(EnumToName(std::span<const EnumName<SpsrOptions::FineSolver>>(kSpsrFineSolverNames), o.fine_solver)));
+  s.params.Set("fine_solver", EnumToName(kSpsrFineSolverNames, o.fine_solver));
   return s;
 }
 

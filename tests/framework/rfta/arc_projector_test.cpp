@@ -279,8 +279,12 @@ TEST(MakeFeasible, TwoAndThreeSphereConfigurations) {
       const bool flagged_ok = MakeFeasible(tree, c, 0.15, 0, o, &flagged, nullptr, nullptr, &kc, &free_at_end);
       EXPECT_EQ(flagged, plain);
       EXPECT_EQ(flagged_ok, plain_ok);
-      if (free_at_end) EXPECT_FALSE(tree.AnyContains(flagged, -o.tol, 0));
-      if (!flagged_ok) EXPECT_FALSE(free_at_end);
+      if (free_at_end) {
+        EXPECT_FALSE(tree.AnyContains(flagged, -o.tol, 0));
+      }
+      if (!flagged_ok) {
+        EXPECT_FALSE(free_at_end);
+      }
     }
   }
   // A point moved and then found free by the query reports it.
