@@ -57,7 +57,9 @@ PoissonOptions OfficialRftaPoisson() {
   o.depth = 10;
   o.scale = 3.2;
   o.samples_per_node = 1.5;
-  o.point_weight = 10.0;
+  // PoissonRecon weighs a sample by 4^-depth = 1.5 x its area: 1.5 x the
+  // official 10 in our area-per-sample units (docs/poisson.md, session 32).
+  o.point_weight = 15.0;
   o.area_normalized = true;
   o.open_retries = 0;
   // PoissonRecon's cascadic relaxation above the complete level:
@@ -65,6 +67,19 @@ PoissonOptions OfficialRftaPoisson() {
   // (the official call's default). docs/poisson.md, "Fine-level solvers"
   // (session 37).
   o.fine_solver = SpsrOptions::FineSolver::kGaussSeidel;
+  // PoissonRecon 16/18's placement (docs/poisson.md, sessions 24 and 32): a
+  // sample's whole normal at ceil(d_s), and depths from the density its
+  // normalised kernel reads (1.5 x our tents').
+  o.normal_splat = SpsrOptions::NormalSplat::kCeil;
+  o.density_scale = 1.5;
+  return o;
+}
+
+PoissonOptions RftaTuningPoisson() {
+  PoissonOptions o = OfficialRftaPoisson();
+  o.normal_splat = SpsrOptions::NormalSplat::kSplit;
+  o.density_scale = 1.0;
+  o.point_weight = 10.0;
   return o;
 }
 

@@ -133,12 +133,22 @@ struct PoissonOptions {
 };
 // The surface the official Reach for the Arcs makes (its every call, the
 // fine-tuning surfaces and the final one; ../shared/notes/rfta_official_facts.md
-// §2) with arcs' own solver: FEM degree 1, Neumann, depth 10 in a cube 3.2x
-// the cloud, 1.5 samples per node, PoissonRecon's point weight 10
+// §2) with arcs' own solver, in full: FEM degree 1, Neumann, depth 10 in a
+// cube 3.2x the cloud, 1.5 samples per node, PoissonRecon's point weight 10
 // (area-normalised), 8 Gauss-Seidel sweeps per level above the complete one
-// (PoissonRecon's cascadic solver), no open-surface re-solves. Measured in
-// docs/poisson.md.
+// (PoissonRecon's cascadic solver), no open-surface re-solves, and
+// PoissonRecon 16/18's sample placement and weights: a normal at ceil(depth)
+// (normal_splat ceil), depths from a density read as PoissonRecon's
+// normalised kernel reads it (density_scale 1.5) and samples weighted by
+// 1.5 x their area (point_weight 15 in our units). RFTA's final surface.
+// docs/poisson.md, "Session 32" and "Session 39".
 PoissonOptions OfficialRftaPoisson();
+// RFTA's fine-tuning surfaces: OfficialRftaPoisson's geometry and solver with
+// the normal split between two levels, the tents' own density and weight 10
+// (sessions 11-38's calibration for both surfaces). A measured deviation:
+// the official call on these surfaces too lowers the errors at low n but
+// costs the spot n = 10 case (docs/poisson.md, "Session 39").
+PoissonOptions RftaTuningPoisson();
 
 // The screened_poisson stage's `normal_splat` names.
 inline constexpr EnumName<SpsrOptions::NormalSplat> kSpsrNormalSplatNames[] = {

@@ -63,12 +63,14 @@ struct RftaOptions {
   // in the paper; docs/decisions.md, "Small components".
   double small_components = 0.5;
   // The default reconstructors (used where RftaParts leaves one empty).
-  // 3D, the final surface and those inside fine-tuning: the official call
-  // (OfficialRftaPoisson: arcs' own screened Poisson, depth 10, cube 3.2x,
-  // weight 10 area-normalised), one preset for both as in the official code;
-  // the tuning surfaces warm-start from the previous iteration's solution.
+  // 3D, the final surface: the official call in full (OfficialRftaPoisson:
+  // arcs' own screened Poisson, depth 10, cube 3.2x, PoissonRecon's weights
+  // and sample placement). Inside fine-tuning: its geometry and solver with
+  // sessions 11-38's placement and weight (RftaTuningPoisson; the official
+  // code makes every surface with one call: a measured deviation,
+  // docs/poisson.md session 39), warm-started from the previous iteration.
   PoissonOptions poisson = OfficialRftaPoisson();
-  PoissonOptions tuning_poisson = OfficialRftaPoisson();
+  PoissonOptions tuning_poisson = RftaTuningPoisson();
   // 3D: when > 0, the default tuning surfaces are extracted no finer than
   // cells of tuning_cell x the samples' spacing (SampleSpacing; unless
   // tuning_poisson.extract_max_cell is set): fine-tuning needs closest points

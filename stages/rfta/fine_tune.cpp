@@ -33,9 +33,10 @@ Binder<FineTuneOptions> FineTuneParams() {
             "no feasible step: jump to the target and repair it by Alg. 2 (official) instead of staying")
       .Bool("keep_points_when_missed", &O::keep_points_when_missed,
             "spheres the surface misses keep all their points (false: only the moved one, paper Alg. 3)");
-  FinalCheckParam(b).Stage("reconstructor", "reconstructor", OfficialPoissonSpec(),
+  FinalCheckParam(b).Stage("reconstructor", "reconstructor", RftaTuningPoissonSpec(),
                            "surface reconstructor the points are tuned against (paper: screened Poisson; default "
-                           "the official call, warm-started from the previous iteration)");
+                           "rfta's tuning surfaces: the official call's geometry and solver, normal_splat split, "
+                           "density_scale 1, point_weight 10; warm-started from the previous iteration)");
   return b;
 }
 

@@ -182,11 +182,13 @@ void RegisterRfta(Registry& r) {
       .Int("batch_size", 10000, "b constraint spheres, drawn without replacement (paper 10 000; 0 = all)", 0,
            1000000000)
       .Stage("reconstructor", "reconstructor", OfficialPoissonSpec(),
-             "surface reconstructor of the final mesh (paper: screened Poisson; default the official call: "
-             "arcs' own solver, depth 10, cube 3.2x, 1.5 samples per node, weight 10, docs/poisson.md)")
-      .Stage("tuning_reconstructor", "reconstructor", OfficialPoissonSpec(),
-             "reconstructor inside fine-tuning (default: the same call as the final one, as the official code; "
-             "warm-started from the previous iteration)")
+             "surface reconstructor of the final mesh (paper: screened Poisson; default the official call in full: "
+             "arcs' own solver, depth 10, cube 3.2x, 1.5 samples per node, PoissonRecon's weight 10 and sample "
+             "placement: point_weight 15, normal_splat ceil, density_scale 1.5; docs/poisson.md)")
+      .Stage("tuning_reconstructor", "reconstructor", RftaTuningPoissonSpec(),
+             "reconstructor inside fine-tuning (default: the final call's geometry and solver with normal_splat "
+             "split, density_scale 1, point_weight 10, a measured deviation: the official code uses the final "
+             "call, docs/poisson.md session 39; warm-started from the previous iteration)")
       .Double("tuning_cell", 0.0,
               "3D: when > 0, the tuning surfaces' marching cubes no finer than this fraction of the samples' "
               "spacing (sets the tuning screened_poisson's extract_max_cell; 0 = the final surface's level, "

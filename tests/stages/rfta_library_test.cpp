@@ -166,7 +166,7 @@ TEST(RftaLibrary, TuningCellThatCannotApplyIsAWarning) {
   ParamMap given;
   given.Set("iterations", std::int64_t{1});
   given.Set("tuning_cell", 0.6);
-  auto tuning = std::make_shared<StageSpec>(OfficialPoissonSpec());
+  auto tuning = std::make_shared<StageSpec>(RftaTuningPoissonSpec());
   tuning->params.Set("extract_max_cell", 0.05);
   given.Set("tuning_reconstructor", tuning);
   std::vector<std::string> warnings;
