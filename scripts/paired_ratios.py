@@ -33,21 +33,29 @@ PAPER_METRIC = {"chamfer": "chf", "hausdorff": "hd", "e_sdf": "sdf"}
 GROUPS = [("all", lambda g: True), ("genus 0", lambda g: g == 0), ("genus > 0", lambda g: g > 0)]
 
 
-def read_ours(paths, metric):
-    """{(item, n): {"genus": g, METHOD: value}} from arcs results files (ok rows, merged by case id)."""
+def merged_rows(paths, columns):
+    """{case_id: row} from arcs results files merged as `arcs table` merges them: the last ok row of
+    a case wins (a later part re-running a method replaces the earlier rows), a failure never
+    replaces an ok row. Each row keeps its file under "_file"; a row without one of `columns` is
+    an error naming the file and line."""
     by_case = {}
     for path in paths:
         with open(path, newline="") as f:
             for line_no, row in enumerate(csv.DictReader(f), start=2):
-                for col in ("case_id", "status", "item", "method", "sdf_grid.n", "ref_genus", metric):
+                for col in columns:
                     if col not in row:
                         raise SystemExit("%s:%d: no column '%s' (an arcs results file of an sdf_grid experiment?)"
                                          % (path, line_no, col))
-                # As `arcs table` merges: the last ok row of a case wins (a
-                # later part re-running a method replaces the earlier rows).
+                row["_file"] = path
                 old = by_case.get(row["case_id"])
                 if old is None or row["status"] == "ok" or old["status"] != "ok":
                     by_case[row["case_id"]] = row
+    return by_case
+
+
+def read_ours(paths, metric):
+    """{(item, n): {"genus": g, METHOD: value}} from arcs results files (ok rows, merged by case id)."""
+    by_case = merged_rows(paths, ("case_id", "status", "item", "method", "sdf_grid.n", "ref_genus", metric))
     shapes = defaultdict(dict)
     for row in by_case.values():
         if row["status"] != "ok" or row[metric] in ("", "nan"):

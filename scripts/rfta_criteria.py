@@ -20,8 +20,8 @@ Our method's rows come from the results files, MC's from the same files or, with
 from other runs (marching cubes on the same grid does not change between runs). Rows are merged
 by case id as `arcs table` merges parts (the last `ok` row of a case wins), so a run split into
 parts reads as one; two different cases of one method on one shape and grid are an error, not
-averaged (pick the run with --method or fewer files). A column a file lacks (an older file, a run without MC) is
-printed as "—", never guessed. The paper's shapes are not ours: the means compare trends, and
+averaged (pick the run with --method or fewer files). A column a file lacks (an older file, a run
+without MC) is printed as "—", never guessed. The paper's shapes are not ours: the means compare trends, and
 scripts/paired_ratios.py gives the per-shape view.
 """
 import argparse
@@ -31,25 +31,16 @@ import statistics
 import sys
 from collections import defaultdict
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from paired_ratios import merged_rows  # noqa: E402  (the project's one merge rule for results files)
+
 NEEDED = ("case_id", "status", "item", "method", "sdf_grid.n")
 
 
 def read_rows(paths):
-    """The merged ok rows (the last ok row of a case wins; a failure never replaces one), each with
-    the file it came from under "_file"."""
-    by_case = {}
-    for path in paths:
-        with open(path, newline="") as f:
-            reader = csv.DictReader(f)
-            for col in NEEDED:
-                if reader.fieldnames is None or col not in reader.fieldnames:
-                    raise SystemExit("%s: no column '%s' (an arcs results file of an sdf_grid experiment?)" % (path, col))
-            for row in reader:
-                row["_file"] = path
-                old = by_case.get(row["case_id"])
-                if old is None or row["status"] == "ok" or old["status"] != "ok":
-                    by_case[row["case_id"]] = row
-    return [r for r in by_case.values() if r["status"] == "ok"]
+    """The ok rows of arcs results files, merged by case id as `arcs table` merges them
+    (paired_ratios.merged_rows), each with its file under "_file"."""
+    return [r for r in merged_rows(paths, NEEDED).values() if r["status"] == "ok"]
 
 
 def read_paper(path):
@@ -81,15 +72,19 @@ def flag(row, col):
     return v.strip().lower() in ("1", "true", "yes")
 
 
+def present(values):
+    """The values that are there (a column a row lacks reads None)."""
+    return [v for v in values if v is not None]
+
+
 def mean(values):
-    values = [v for v in values if v is not None]
+    values = present(values)
     return sum(values) / len(values) if values else None
 
 
 def rate(rows, col):
     """(matching, counted) over the rows that have the column."""
-    flags = [flag(r, col) for r in rows]
-    flags = [f for f in flags if f is not None]
+    flags = present(flag(r, col) for r in rows)
     return (sum(flags), len(flags)) if flags else None
 
 
@@ -137,11 +132,9 @@ def summarize(rows, paper, method, mc, mc_rows=None):
         s["genus"] = rate(ours.values(), "genus_matches")
         s["mc_components"] = rate(mcs.values(), "components_match") if mcs else None
         s["mc_genus"] = rate(mcs.values(), "genus_matches") if mcs else None
-        left = [number(r, "final_infeasible") for r in ours.values()]
-        left = [v for v in left if v is not None]
+        left = present(number(r, "final_infeasible") for r in ours.values())
         s["final_infeasible"] = int(sum(left)) if left else None
-        times = [number(r, "method_wall_s") for r in ours.values()]
-        times = [t for t in times if t is not None]
+        times = present(number(r, "method_wall_s") for r in ours.values())
         s["time_median"] = statistics.median(times) if times else None
         s["time_max"] = max(times) if times else None
 

@@ -590,7 +590,8 @@ FineTuneResult FineTune(const SdfSamples& samples, const PointCloud& initial, co
       result.final_infeasible += after[g];
     }
     result.final_check_s = Since(t0);
-    ctx.Info("fine_tune: final check (" + EnumToName(FineTuneOptions::kFinalCheckNames, mode) + ") against all " + std::to_string(ns) + " spheres: " + std::to_string(result.final_infeasible_before) +
+    ctx.Info("fine_tune: final check (" + EnumToName(FineTuneOptions::kFinalCheckNames, mode) + ") against all " +
+             std::to_string(ns) + " spheres: " + std::to_string(result.final_infeasible_before) +
              " points inside another sphere by more than tol, " + std::to_string(result.final_repaired) +
              " repaired, " + std::to_string(result.final_dropped) + " dropped, " +
              std::to_string(result.final_infeasible) + " left");
