@@ -20,6 +20,8 @@
 // solver above the complete level, for both surfaces (the stage's
 // fine_solver and gs_iters). RFTA_BENCH_TUNING_CELL=F: rfta's tuning_cell (the
 // tuning surfaces no finer than F x the samples' spacing; default 0 = off).
+// RFTA_BENCH_BASE_ACCURACY=A: both surfaces' base_accuracy (the complete
+// level's relative residual; default 1e-6).
 //
 //   rfta_bench [all | torus20 | torus40 | bunny20 | armadillo40]
 //   rfta_bench scaling [SHAPE] [NMAX]
@@ -117,6 +119,8 @@ Outcome RunLibrary(const SdfSamples& samples, int iterations, int points_per_sph
   }
   if (const char* tc = std::getenv("RFTA_BENCH_TUNING_CELL")) o.tuning_cell = std::atof(tc);
   if (const char* gi = std::getenv("RFTA_BENCH_GS_ITERS")) o.poisson.gs_iters = o.tuning_poisson.gs_iters = std::atoi(gi);
+  if (const char* ba = std::getenv("RFTA_BENCH_BASE_ACCURACY"))
+    o.poisson.base_accuracy = o.tuning_poisson.base_accuracy = std::atof(ba);
   RftaResult r = ReachForTheArcs(samples, o, ctx);
   Outcome out;
   out.mesh = std::get<Mesh>(std::move(r.surface));

@@ -300,6 +300,13 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
   auto apply_g = [&](const Level& L, const std::vector<Vec3>& field, const Level* coarse,
                      const std::vector<Vec3>* coarse_field, std::vector<double>& out) {
     out.assign(L.nodes.size(), 0.0);
+    // A field that is zero at every node (and whose coarser field is too)
+    // gives zero rows: each row's loop would add nothing to its +0 start.
+    // Typical of the complete level, where few samples are splatted.
+    auto all_zero = [](const std::vector<Vec3>& f) {
+      return std::all_of(f.begin(), f.end(), [](const Vec3& v) { return v.isZero(0); });
+    };
+    if (all_zero(field) && (!coarse || all_zero(*coarse_field))) return;
     const TentByClass tc(L.tent);
     // Each row on its own (reads only): the same sums at any thread count.
     ParallelFor(static_cast<std::int64_t>(L.nodes.size()), [&](std::int64_t b0, std::int64_t e0) {
@@ -352,15 +359,54 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
     if (d < Lmax_) {
       const Level& Fl = At(d + 1);
       static const double w1[3] = {0.5, 1.0, 0.5};
-      ParallelFor(static_cast<std::int64_t>(L.nodes.size()), [&](std::int64_t b0, std::int64_t e0) {
-        // The finer nodes around (2x, 2y, 2z) (those keys grow with i).
+      // Row i gathers the finer nodes (2x + u, 2y + v, 2z + w), |u|, |v|,
+      // |w| <= 1. Where the finer level is much smaller than this one (the
+      // complete level above a sparse one), only the rows some finer node
+      // reaches are gathered: a finer coordinate a has the rows a / 2 (a
+      // even) or (a -+ 1) / 2 (a odd) on its axis. The others keep their +0,
+      // which is what their loops would leave.
+      std::vector<std::int64_t> rows_to_do;
+      const bool sparse_finer = Fl.nodes.size() * 2 < L.nodes.size();
+      if (sparse_finer) {
+        const std::int64_t nf = static_cast<std::int64_t>(Fl.nodes.size());
+        constexpr std::int64_t kBlock = 4096;
+        std::vector<std::vector<std::int64_t>> part(static_cast<std::size_t>((nf + kBlock - 1) / kBlock));
+        ParallelFor(static_cast<std::int64_t>(part.size()), [&](std::int64_t b0, std::int64_t e0) {
+          for (std::int64_t blk = b0; blk < e0; ++blk)
+            for (std::int64_t j = blk * kBlock; j < std::min(nf, (blk + 1) * kBlock); ++j) {
+              const int f[3] = {KX(Fl.nodes[j]), KY(Fl.nodes[j]), KZ(Fl.nodes[j])};
+              int lo[3], hi[3];
+              for (int a = 0; a < 3; ++a) {
+                lo[a] = (f[a] & 1) ? (f[a] - 1) / 2 : f[a] / 2;
+                hi[a] = (f[a] & 1) ? (f[a] + 1) / 2 : f[a] / 2;
+              }
+              for (int z = lo[2]; z <= hi[2]; ++z)
+                for (int y = lo[1]; y <= hi[1]; ++y)
+                  for (int x = lo[0]; x <= hi[0]; ++x) {
+                    const int id = L.node_map.Find(Pack(x, y, z));
+                    if (id >= 0) part[blk].push_back(id);
+                  }
+            }
+        }, 1);
+        for (const auto& v : part) rows_to_do.insert(rows_to_do.end(), v.begin(), v.end());
+        std::sort(rows_to_do.begin(), rows_to_do.end());
+        rows_to_do.erase(std::unique(rows_to_do.begin(), rows_to_do.end()), rows_to_do.end());
+      }
+      const std::int64_t nrows = sparse_finer ? static_cast<std::int64_t>(rows_to_do.size())
+                                              : static_cast<std::int64_t>(L.nodes.size());
+      auto row_at = [&](std::int64_t r) { return sparse_finer ? rows_to_do[r] : r; };
+      ParallelFor(nrows, [&](std::int64_t b0, std::int64_t e0) {
+        // The finer nodes around (2x, 2y, 2z) (those keys grow with r).
         std::vector<Key> q(static_cast<std::size_t>(e0 - b0));
-        for (std::int64_t i = b0; i < e0; ++i)
-          q[i - b0] = Pack(2 * KX(L.nodes[i]), 2 * KY(L.nodes[i]), 2 * KZ(L.nodes[i]));
+        for (std::int64_t r = b0; r < e0; ++r) {
+          const std::int64_t i = row_at(r);
+          q[r - b0] = Pack(2 * KX(L.nodes[i]), 2 * KY(L.nodes[i]), 2 * KZ(L.nodes[i]));
+        }
         std::vector<int> rows(q.size() * 27);
         NeighbourRowsOf(Fl.nodes, Fl.res, q.data(), q.size(), rows.data());
-        for (std::int64_t i = b0; i < e0; ++i) {
-          const int* row = &rows[static_cast<std::size_t>(i - b0) * 27];
+        for (std::int64_t r = b0; r < e0; ++r) {
+          const std::int64_t i = row_at(r);
+          const int* row = &rows[static_cast<std::size_t>(r - b0) * 27];
           double acc = 0;
           for (int o = 0; o < 27; ++o) {
             const int j = row[o];
