@@ -362,33 +362,20 @@ void Solver::Constraints(const std::vector<std::vector<Vec3>>& V, std::vector<st
       // Row i gathers the finer nodes (2x + u, 2y + v, 2z + w), |u|, |v|,
       // |w| <= 1. Where the finer level is much smaller than this one (the
       // complete level above a sparse one), only the rows some finer node
-      // reaches are gathered: a finer coordinate a has the rows a / 2 (a
-      // even) or (a -+ 1) / 2 (a odd) on its axis. The others keep their +0,
+      // reaches are gathered: a finer coordinate a has the rows a >> 1 to
+      // (a + 1) >> 1 on its axis (one when a is even). The others keep their +0,
       // which is what their loops would leave.
       std::vector<std::int64_t> rows_to_do;
       const bool sparse_finer = Fl.nodes.size() * 2 < L.nodes.size();
       if (sparse_finer) {
-        const std::int64_t nf = static_cast<std::int64_t>(Fl.nodes.size());
-        constexpr std::int64_t kBlock = 4096;
-        std::vector<std::vector<std::int64_t>> part(static_cast<std::size_t>((nf + kBlock - 1) / kBlock));
-        ParallelFor(static_cast<std::int64_t>(part.size()), [&](std::int64_t b0, std::int64_t e0) {
-          for (std::int64_t blk = b0; blk < e0; ++blk)
-            for (std::int64_t j = blk * kBlock; j < std::min(nf, (blk + 1) * kBlock); ++j) {
-              const int f[3] = {KX(Fl.nodes[j]), KY(Fl.nodes[j]), KZ(Fl.nodes[j])};
-              int lo[3], hi[3];
-              for (int a = 0; a < 3; ++a) {
-                lo[a] = (f[a] & 1) ? (f[a] - 1) / 2 : f[a] / 2;
-                hi[a] = (f[a] & 1) ? (f[a] + 1) / 2 : f[a] / 2;
-              }
-              for (int z = lo[2]; z <= hi[2]; ++z)
-                for (int y = lo[1]; y <= hi[1]; ++y)
-                  for (int x = lo[0]; x <= hi[0]; ++x) {
-                    const int id = L.node_map.Find(Pack(x, y, z));
-                    if (id >= 0) part[blk].push_back(id);
-                  }
-            }
-        }, 1);
-        for (const auto& v : part) rows_to_do.insert(rows_to_do.end(), v.begin(), v.end());
+        rows_to_do = GatherInBlocks<std::int64_t>(
+            static_cast<std::int64_t>(Fl.nodes.size()), [&](std::int64_t j, std::vector<std::int64_t>& out) {
+              const Key k = Fl.nodes[j];
+              for (int z = KZ(k) >> 1; z <= (KZ(k) + 1) >> 1; ++z)
+                for (int y = KY(k) >> 1; y <= (KY(k) + 1) >> 1; ++y)
+                  for (int x = KX(k) >> 1; x <= (KX(k) + 1) >> 1; ++x)
+                    if (const int id = L.node_map.Find(Pack(x, y, z)); id >= 0) out.push_back(id);
+            });
         std::sort(rows_to_do.begin(), rows_to_do.end());
         rows_to_do.erase(std::unique(rows_to_do.begin(), rows_to_do.end()), rows_to_do.end());
       }

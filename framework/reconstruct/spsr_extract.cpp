@@ -105,20 +105,8 @@ Mesh Solver::Extract(double iso) {
     rmap.SetMany(need, val);
   };
   static const int kFaceNb[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  // Keys fn(i, out) appends for i in [0, n), gathered in parallel by fixed
-  // blocks and concatenated in block order (callers sort them anyway).
-  auto gather = [&](std::int64_t n, auto&& fn) {
-    constexpr std::int64_t kBlock = 2048;
-    const std::int64_t nb = (n + kBlock - 1) / kBlock;
-    std::vector<std::vector<Key>> part(nb);
-    ParallelFor(nb, [&](std::int64_t b0, std::int64_t e0) {
-      for (std::int64_t blk = b0; blk < e0; ++blk)
-        for (std::int64_t i = blk * kBlock; i < std::min(n, (blk + 1) * kBlock); ++i) fn(i, part[blk]);
-    }, 1);
-    std::vector<Key> out;
-    for (const auto& v : part) out.insert(out.end(), v.begin(), v.end());
-    return out;
-  };
+  // Keys fn(i, out) appends for i in [0, n) (callers sort them anyway).
+  auto gather = [&](std::int64_t n, auto&& fn) { return GatherInBlocks<Key>(n, fn); };
   // Everything G needs at the nodes `cand` (any that are not in gmap yet).
   auto prefetch_nodes = [&](std::vector<Key> cand) {
     SortUnique(cand);

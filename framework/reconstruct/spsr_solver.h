@@ -8,6 +8,7 @@
 #include "framework/reconstruct/spsr.h"
 #include "framework/reconstruct/spsr_fem.h"
 #include "framework/reconstruct/spsr_keys.h"
+#include "framework/util/parallel.h"
 
 #include <array>
 #include <cstddef>
@@ -45,6 +46,23 @@ struct Level {
 
 // Calls fn(o, a, b, c, j) for the 27 stencil neighbours (a, b, c) of node i
 // that lie in the cube; j is the neighbour's unknown index or -1.
+// The items fn(i, out) appends to `out` for i in [0, n), gathered in
+// parallel by fixed blocks of 2048 and concatenated in block order (the same
+// list at any thread count).
+template <class T, class Fn>
+std::vector<T> GatherInBlocks(std::int64_t n, Fn&& fn) {
+  constexpr std::int64_t kBlock = 2048;
+  const std::int64_t nb = (n + kBlock - 1) / kBlock;
+  std::vector<std::vector<T>> part(static_cast<std::size_t>(nb));
+  ParallelFor(nb, [&](std::int64_t b0, std::int64_t e0) {
+    for (std::int64_t blk = b0; blk < e0; ++blk)
+      for (std::int64_t i = blk * kBlock; i < std::min(n, (blk + 1) * kBlock); ++i) fn(i, part[blk]);
+  }, 1);
+  std::vector<T> out;
+  for (const auto& v : part) out.insert(out.end(), v.begin(), v.end());
+  return out;
+}
+
 template <class Fn>
 inline void ForStencil(const Level& L, std::size_t i, Fn&& fn) {
   const int x = KX(L.nodes[i]), y = KY(L.nodes[i]), z = KZ(L.nodes[i]);
