@@ -49,6 +49,10 @@ void PoissonOptions::Check() const {
                     "extract_max_cell", extract_max_cell, "in [0, 1e9]");
   ARCS_CHECK_OPTION(std::isfinite(density_scale) && density_scale >= 0.1 && density_scale <= 10.0, "density_scale",
                     density_scale, "in [0.1, 10]");
+  ARCS_CHECK_OPTION(std::isfinite(carve_margin) && carve_margin >= 0.0 && carve_margin <= 10.0, "carve_margin",
+                    carve_margin, "in [0, 10]");
+  if (carve && backend != Backend::kArcs)
+    throw OptionError("carve: only the arcs back-end can carve its surface (backend arcs)");
 }
 
 PoissonOptions OfficialRftaPoisson() {
@@ -404,6 +408,7 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
     so.density_scale = options.density_scale;
     so.iso_weight = options.iso_weight;
     so.screen_samples = options.screen_samples;
+    so.carve = options.carve;
     std::shared_ptr<SpsrWarmStart> state;
     const bool use_warm = warm && options.warm_start;
     if (use_warm) state = std::static_pointer_cast<SpsrWarmStart>(*warm);

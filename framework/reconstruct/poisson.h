@@ -124,6 +124,13 @@ struct PoissonOptions {
   // reconstruction cube), EstimatePoissonSampleArea below. The Open3D
   // back-end is always area-normalised.
   bool area_normalized = false;
+  // kArcs only: SpsrOptions::carve (empty = none). Other back-ends refuse
+  // it. The screened_poisson stage builds it from the case's SDF samples
+  // when carve_spheres is set (framework/rfta/sphere_carve.h); the field
+  // itself is not read by ReconstructPoisson.
+  std::function<void(const std::vector<Vec3>& x, std::vector<double>& c)> carve;
+  bool carve_spheres = false;
+  double carve_margin = 0.0;  // the stage's: a fraction of the samples' spacing (CarveMargin)
 
   static constexpr int kMinAutoDepth = 6;
   static constexpr int kMaxAutoDepth = 10;

@@ -905,6 +905,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
     info->depth = Lmax_;
     info->extract_depth = extract_level_;
     info->islands_removed = islands_;
+    info->carved_nodes = carved_;
     info->iso_value = iso;
     info->area = area;
     info->unknowns = unknowns;

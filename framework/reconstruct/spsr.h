@@ -50,7 +50,9 @@
 #include "framework/context.h"
 #include "framework/types.h"
 
+#include <functional>
 #include <memory>
+#include <vector>
 
 namespace arcs {
 
@@ -119,6 +121,16 @@ struct SpsrOptions {
   // holds one sample; merged drops the spread of χ inside a cell.
   enum class ScreenSamples { kEach, kMerged };
   ScreenSamples screen_samples = ScreenSamples::kEach;
+  // Optional carving field (empty = none). Called with marching-cubes node
+  // positions x (input frame), it writes c(x) into `c` (same size); where
+  // c > 0 the node is outside whatever χ says, so the solid is χ's inside
+  // minus {c > 0} and the surface there follows c's zero set (the crossing
+  // on an edge is where the first of χ - iso and c changes side, each
+  // linear along the edge). RFTA's final surface uses it to carve away the
+  // sample spheres that certify empty space (rfta `carve`,
+  // framework/rfta/sphere_carve.h). May be called from any thread, with
+  // batches of any size; must be deterministic.
+  std::function<void(const std::vector<Vec3>& x, std::vector<double>& c)> carve;
 };
 
 // Solution of one call, reusable as the starting guess of the next
@@ -129,6 +141,7 @@ struct SpsrInfo {
   int depth = 0;               // finest level with cells
   int extract_depth = 0;       // level of the marching cubes
   int islands_removed = 0;     // one-node islands given their neighbours' mean
+  long long carved_nodes = 0;  // marching-cubes nodes inside χ's solid that `carve` moved outside
   double iso_value = 0;
   double area = 0;             // Σ a_s, in units of the cube's side squared
   long long unknowns = 0;      // coefficients over all levels

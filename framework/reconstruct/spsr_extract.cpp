@@ -88,6 +88,39 @@ Mesh Solver::Extract(double iso) {
     gmap.Set(k, v);
     return v;
   };
+  // The carving field (SpsrOptions::carve) at the nodes gmap holds, in cmap
+  // (empty without carving): a node is inside iff χ says so (G < 0) and the
+  // field does not (c <= 0).
+  const bool carving = static_cast<bool>(o_.carve);
+  NodeCache<double> cmap(L - F_, (1 << F_) + 1);
+  auto node_pos = [&](Key k) {
+    return Vec3(((KX(k) + 0.0) / res - 0.5) * side_ + center_[0], ((KY(k) + 0.0) / res - 0.5) * side_ + center_[1],
+                ((KZ(k) + 0.0) / res - 0.5) * side_ + center_[2]);
+  };
+  // c at the nodes `keys` (sorted, unique, none in cmap yet).
+  auto eval_carve = [&](const std::vector<Key>& keys) {
+    if (!carving || keys.empty()) return;
+    std::vector<Vec3> x(keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) x[i] = node_pos(keys[i]);
+    std::vector<double> c(keys.size(), 0.0);
+    o_.carve(x, c);
+    if (c.size() != keys.size()) throw Error("screened Poisson: the carving field returned the wrong count");
+    for (std::size_t i = 0; i < keys.size(); ++i) carved_ += c[i] > 0 && *gmap.Lookup(keys[i]) < 0;
+    cmap.SetMany(keys, c);
+  };
+  auto C = [&](int x, int y, int z) {
+    if (!carving) return 0.0;
+    const Key k = Pack(x, y, z);
+    if (const double* known = cmap.Lookup(k)) return *known;
+    G(x, y, z);
+    eval_carve({k});
+    return *cmap.Lookup(k);
+  };
+  // Both read (so every node in gmap is in cmap too).
+  auto In = [&](int x, int y, int z) {
+    const double g = G(x, y, z), c = C(x, y, z);
+    return g < 0 && !(c > 0);
+  };
   // The values a round of cells needs, computed in parallel before the round
   // (each block with its own memo: the same bits as the serial memo): first
   // the raw values at the cells' corners; then, for the island rule, the face
@@ -194,6 +227,7 @@ Mesh Solver::Extract(double iso) {
     }, 1024);
     for (std::size_t i = 0; i < gneed.size(); ++i) islands_ += isl[i];
     gmap.SetMany(gneed, gv);
+    eval_carve(gneed);
   };
   auto prefetch = [&](const std::vector<Key>& cells) {
     prefetch_nodes(gather(static_cast<std::int64_t>(cells.size()), [&](std::int64_t i, std::vector<Key>& out) {
@@ -243,6 +277,7 @@ Mesh Solver::Extract(double iso) {
       }, 512);
       for (std::size_t i = 0; i < all.size(); ++i) islands_ += isl[i];
       gmap.SetMany(all, gv);
+      eval_carve(all);
     }
     for (int z = 0; z <= rF; ++z)
       for (int y = 0; y <= rF; ++y)
@@ -253,14 +288,14 @@ Mesh Solver::Extract(double iso) {
             int lo[3] = {x * step, y * step, z * step};
             int hi[3] = {lo[0], lo[1], lo[2]};
             hi[a] += step;
-            const bool in0 = G(lo[0], lo[1], lo[2]) < 0, in1 = G(hi[0], hi[1], hi[2]) < 0;
+            const bool in0 = In(lo[0], lo[1], lo[2]), in1 = In(hi[0], hi[1], hi[2]);
             if (in0 == in1) continue;
             int l = lo[a], h = hi[a];
             while (h - l > 1) {
               const int m = (l + h) / 2;
               int q[3] = {lo[0], lo[1], lo[2]};
               q[a] = m;
-              if ((G(q[0], q[1], q[2]) < 0) == in0) l = m; else h = m;
+              if (In(q[0], q[1], q[2]) == in0) l = m; else h = m;
             }
             int c[3] = {lo[0], lo[1], lo[2]};
             c[a] = l;
@@ -281,11 +316,21 @@ Mesh Solver::Extract(double iso) {
   std::vector<Vec3> verts;
   std::vector<std::array<int, 3>> tris;
   // The vertex on the edge from node (x, y, z) along `axis`, whose end
-  // values are g0 and g1 (the edge's own G values).
-  auto vertex = [&](int x, int y, int z, int axis, double g0, double g1) {
+  // values are g0 and g1 (the edge's own G values) and c0, c1 (the carving
+  // field's; 0 without carving). Without carving: χ's crossing. With it,
+  // the crossing nearer the edge's inside end of the two functions that
+  // change side there (χ - iso at 0, c at 0), each linear along the edge.
+  auto vertex = [&](int x, int y, int z, int axis, double g0, double g1, double c0, double c1) {
     const Key k = Pack(x, y, z);
     if (const int* id = emap[axis].Lookup(k)) return *id;
-    const double f = g0 / (g0 - g1);
+    double f = g0 / (g0 - g1);
+    if (carving) {
+      const bool in0 = g0 < 0 && !(c0 > 0);
+      const bool g_cross = (g0 < 0) != (g1 < 0), c_cross = (c0 > 0) != (c1 > 0);
+      const double fc = c_cross ? c0 / (c0 - c1) : 0.0;
+      if (!g_cross) f = fc;
+      else if (c_cross) f = in0 ? std::min(f, fc) : std::max(f, fc);
+    }
     Vec3 pos((x + 0.0) / res, (y + 0.0) / res, (z + 0.0) / res);
     pos[axis] += f / res;
     emap[axis].Set(k, static_cast<int>(verts.size()));
@@ -295,7 +340,7 @@ Mesh Solver::Extract(double iso) {
   // Breadth-first, a round at a time: the cells of a round in the order a
   // first-in-first-out queue would give them, so the mesh is the same.
   std::vector<Key> round = std::move(seeds), next;
-  std::vector<std::array<double, 8>> round_g;
+  std::vector<std::array<double, 8>> round_g, round_c;
   std::vector<int> round_config;
   prefetch(round);
   while (!round.empty()) {
@@ -308,36 +353,45 @@ Mesh Solver::Extract(double iso) {
     // `rmap`, `islands_`), so the numbering runs beside the next round's
     // prefetch.
     round_g.resize(round.size());
+    if (carving) round_c.resize(round.size());
     round_config.resize(round.size());
     ParallelFor(static_cast<std::int64_t>(round.size()), [&](std::int64_t b0, std::int64_t e0) {
       for (std::int64_t i = b0; i < e0; ++i) {
         const int x = KX(round[i]), y = KY(round[i]), z = KZ(round[i]);
         int config = 0;
         for (int q = 0; q < 8; ++q) {
-          const double v = *gmap.Lookup(Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1)));
+          const Key k = Pack(x + (q & 1), y + ((q >> 1) & 1), z + ((q >> 2) & 1));
+          const double v = *gmap.Lookup(k);
           round_g[i][q] = v;
-          if (v < 0) config |= 1 << q;
+          bool in = v < 0;
+          if (carving) {
+            const double c = *cmap.Lookup(k);
+            round_c[i][q] = c;
+            in = in && !(c > 0);
+          }
+          if (in) config |= 1 << q;
         }
         round_config[i] = config;
       }
     }, 512);
-    // fn(x, y, z, corner values, configuration) for the round's cells that
-    // the surface crosses, in the queue's order.
+    // fn(x, y, z, corner values, carving values (null without), configuration)
+    // for the round's cells that the surface crosses, in the queue's order.
     auto crossed = [&](auto&& fn) {
       for (std::size_t i = 0; i < round.size(); ++i) {
         const int config = round_config[i];
         if (config == 0 || config == 255) continue;
-        fn(KX(round[i]), KY(round[i]), KZ(round[i]), round_g[i].data(), config);
+        fn(KX(round[i]), KY(round[i]), KZ(round[i]), round_g[i].data(), carving ? round_c[i].data() : nullptr,
+           config);
       }
     };
-    crossed([&](int x, int y, int z, const double* cg, int) {
+    crossed([&](int x, int y, int z, const double*, const double*, int config) {
       // Faces with both signs lead to the neighbour across them.
       for (int a = 0; a < 3; ++a)
         for (int side = 0; side < 2; ++side) {
           bool any_in = false, any_out = false;
           for (int q = 0; q < 8; ++q) {
             if (((q >> a) & 1) != side) continue;
-            (cg[q] < 0 ? any_in : any_out) = true;
+            (((config >> q) & 1) ? any_in : any_out) = true;
           }
           if (!(any_in && any_out)) continue;
           int nc[3] = {x, y, z};
@@ -350,13 +404,14 @@ Mesh Solver::Extract(double iso) {
         }
     });
     auto number = [&] {
-      crossed([&](int x, int y, int z, const double* cg, int config) {
+      crossed([&](int x, int y, int z, const double* cg, const double* cc, int config) {
         for (const auto& tri : detail::MarchingCubesCase(config)) {
           std::array<int, 3> f;
           for (int k = 0; k < 3; ++k) {
             const int e = tri[k];
-            const int c0 = detail::MarchingCubesEdgeCorner(e), axis = e / 4;
-            f[k] = vertex(x + (c0 & 1), y + ((c0 >> 1) & 1), z + ((c0 >> 2) & 1), axis, cg[c0], cg[c0 | (1 << axis)]);
+            const int c0 = detail::MarchingCubesEdgeCorner(e), axis = e / 4, c1 = c0 | (1 << axis);
+            f[k] = vertex(x + (c0 & 1), y + ((c0 >> 1) & 1), z + ((c0 >> 2) & 1), axis, cg[c0], cg[c1],
+                          cc ? cc[c0] : 0.0, cc ? cc[c1] : 0.0);
           }
           tris.push_back(f);
         }

@@ -136,6 +136,7 @@ class Solver {
   double ValueWith(int level, Key k, Memo& memo) const;
   int extract_level_ = 0;
   int islands_ = 0;
+  long long carved_ = 0;
   double last_residual_ = 0;  // SolveLevel's relative residual at its end
   // χ at p (unit cube), trilinear on the finest level's grid.
   double ChiWith(const Vec3& p, Memo& memo) const;

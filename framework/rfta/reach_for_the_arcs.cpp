@@ -1,6 +1,7 @@
 #include "framework/rfta/reach_for_the_arcs.h"
 
 #include "framework/error.h"
+#include "framework/rfta/sphere_carve.h"
 #include "framework/rfta/sphere_set.h"
 
 #include <chrono>
@@ -19,6 +20,8 @@ void RftaOptions::Check() const {
   tuning_poisson_2d.Check();
   ARCS_CHECK_OPTION(std::isfinite(tuning_cell) && tuning_cell >= 0 && tuning_cell <= 100, "tuning_cell", tuning_cell,
                     "in [0, 100]");
+  ARCS_CHECK_OPTION(std::isfinite(carve_margin) && carve_margin >= 0 && carve_margin <= 10, "carve_margin",
+                    carve_margin, "in [0, 10]");
   ARCS_CHECK_OPTION(std::isfinite(small_components) && small_components >= 0 && small_components <= 10,
                     "small_components", small_components, "in [0, 10]");
 }
@@ -141,8 +144,15 @@ RftaResult ReachForTheArcs(const SdfSamples& samples, const RftaOptions& options
 
   // 4. The final surface from the tuned points.
   t0 = Clock::now();
-  r.surface = parts.reconstruct ? parts.reconstruct(r.points)
-                                : DefaultRftaReconstructor(dim, options, /*tuning=*/false, ctx)(r.points);
+  if (parts.reconstruct) {
+    r.surface = parts.reconstruct(r.points);
+  } else {
+    RftaOptions final_options = options;
+    if (dim == 3 && options.carve && final_options.poisson.backend == PoissonOptions::Backend::kArcs)
+      final_options.poisson.carve = OutsideSpheresCarve(samples, CarveMargin(samples, options.fine_tune.search.tol,
+                                                                             options.carve_margin));
+    r.surface = DefaultRftaReconstructor(dim, final_options, /*tuning=*/false, ctx)(r.points);
+  }
   if (dim == 2) {
     if (!std::holds_alternative<Polyline>(r.surface))
       throw Error("rfta: the reconstructor gave a mesh for 2D samples (2D samples need a 2D reconstructor, "

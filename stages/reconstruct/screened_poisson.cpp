@@ -2,6 +2,7 @@
 // reconstruction (Kazhdan & Hoppe 2013; PCL's port), the reconstructor RFTA
 // uses. Defaults follow the official RFTA call where PCL has the parameter.
 #include "framework/reconstruct/poisson.h"
+#include "framework/rfta/sphere_carve.h"
 #include "registry/bind.h"
 #include "stages/builtin.h"
 
@@ -75,12 +76,31 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
             "backend arcs: a repeated call for one case (RFTA's fine-tuning) starts from the previous solution")
       .Bool("area_normalized", &O::area_normalized,
             "point_weight in PoissonRecon's units (the official RFTA: 10), i.e. scaled by the estimated sample "
-            "area in the reconstruction cube; false: PCL's own units (divided by the point count)");
+            "area in the reconstruction cube; false: PCL's own units (divided by the point count)")
+      .Bool("carve_spheres", &O::carve_spheres,
+            "backend arcs, on a case with SDF samples (inside rfta): the balls of the samples with s > 0 (less "
+            "RFTA's tol, 1e-4 of the samples' extent) are carved out of the solid before marching cubes; the "
+            "samples certify them empty (rfta's `carve`; not in the paper)")
+      .Double("carve_margin", &O::carve_margin,
+              "carve_spheres: carve only where a ball is entered by more than this fraction of the samples' "
+              "spacing (at least RFTA's tol)",
+              Closed(0.0, 10.0));
 }
+
+// RFTA's containment tolerance (FeasibleSearchOptions::tol, unit frame).
+constexpr double kCarveTolUnit = 1e-4;
 
 void RunScreenedPoisson(Context& ctx, CaseData& d, const PoissonOptions& options, const ParamMap&) {
   if (!d.points->HasNormals()) throw Error("needs oriented points (points with normals), got points without normals");
   PoissonOptions o = options;
+  if (o.carve_spheres) {
+    if (!d.samples)
+      throw Error("carve_spheres: needs the case's SDF samples (as inside rfta); this case has points only");
+    if (o.backend != PoissonOptions::Backend::kArcs)
+      throw Error("carve_spheres: only backend arcs can carve its surface");
+    if (d.samples->dim != 3) throw Error("carve_spheres: needs 3D SDF samples");
+    o.carve = OutsideSpheresCarve(*d.samples, CarveMargin(*d.samples, kCarveTolUnit, o.carve_margin));
+  }
   // Resolve the automatic depth here so the row records the depth used.
   if (o.depth == 0) o.depth = AutoPoissonDepth(*d.points, o);
   double used = o.point_weight;

@@ -37,6 +37,8 @@ RftaOptions DecodeRftaOptions(const ParamMap& p) {
   o.drop_infeasible_components = p.GetBool("drop_infeasible_components");
   o.small_components = p.GetDouble("small_components");
   o.tuning_cell = p.GetDouble("tuning_cell");
+  o.carve = p.GetBool("carve");
+  o.carve_margin = p.GetDouble("carve_margin");
   const std::string sc = p.GetString("on_sign_conflict");
   o.on_sign_conflict = sc == "error"    ? RftaOptions::OnSignConflict::kError
                        : sc == "ignore" ? RftaOptions::OnSignConflict::kIgnore
@@ -67,7 +69,7 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
   const SdfSamples& samples = d.RequireSamples("rfta");
   const int dim = samples.dim;
   const RftaOptions options = DecodeRftaOptions(p);
-  const StageSpec final_spec =
+  StageSpec final_spec =
       dim == 2 ? PlanarReconstructorFor(p.GetStage("reconstructor"), d.registry) : p.GetStage("reconstructor");
   StageSpec tuning_spec = dim == 2 ? PlanarReconstructorFor(p.GetStage("tuning_reconstructor"), d.registry)
                                          : p.GetStage("tuning_reconstructor");
@@ -90,6 +92,18 @@ void RunRfta(Context& ctx, CaseData& d, const ParamMap& p) {
                           "' is not screened_poisson with backend arcs (extract_max_cell)"
                     : std::string("the tuning reconstructor's extract_max_cell is set already")));
     }
+  }
+  // carve: the final screened Poisson carves the outside samples' balls out
+  // of its solid (its carve_spheres), where it can.
+  if (dim == 3 && options.carve) {
+    const bool arcs_backend = final_spec.stage == "screened_poisson" && final_spec.params.Has("backend") &&
+                              final_spec.params.GetString("backend") == "arcs";
+    if (arcs_backend) {
+      final_spec.params.Set("carve_spheres", true);
+      final_spec.params.Set("carve_margin", options.carve_margin);
+    } else
+      ctx.Warn("rfta: carve ignored: the reconstructor '" + final_spec.stage +
+               "' is not screened_poisson with backend arcs (carve_spheres)");
   }
   RftaParts parts;
   // The sampler and the final reconstructor run on the case itself (they see
@@ -202,6 +216,15 @@ void RegisterRfta(Registry& r) {
               "smallest first, while together they add at most (fraction x spacing)^2 to the samples' summed "
               "squared misfit: blobs below the samples' resolution that their fit does not need (0 = keep them, "
               "as the official code; docs/decisions.md)",
+              0.0, 10.0)
+      .Bool("carve", RftaOptions{}.carve,
+            "3D: carve the balls of the samples with s > 0 (less tol) out of the final surface's solid: the "
+            "samples certify them empty, and the surface through the tangency points can still cut them "
+            "(sheets across hollows, bulges); sets the final screened_poisson's carve_spheres (backend arcs). "
+            "Not in the paper, the official code keeps them (docs/decisions.md, \"Carving\")")
+      .Double("carve_margin", RftaOptions{}.carve_margin,
+              "3D, carve: carve only where a ball is entered by more than this fraction of the samples' spacing "
+              "(at least tol)",
               0.0, 10.0);
   // final_check: the fine_tune stage's own declaration (names, default, doc).
   Binder<FineTuneOptions> final_check;

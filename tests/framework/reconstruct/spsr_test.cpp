@@ -369,6 +369,59 @@ TEST(Spsr, StrayPointsInsideMakeNoVoids) {
   EXPECT_GT(info.islands_removed, 0);
 }
 
+TEST(Spsr, CarvingRemovesABallAndFollowsItsBoundary) {
+  // A sphere of radius 0.5 with a ball of radius 0.25 carved out at (0.5, 0,
+  // 0), on its surface: the solid left is the sphere minus the ball. The
+  // mesh stays closed and manifold, no vertex lies inside the ball by more
+  // than a marching-cubes cell, the dent's vertices lie on the ball's
+  // sphere, and the volume is the sphere's minus the lens. A field that
+  // carves nothing gives the uncarved mesh to the bit. (The dent's vertices
+  // are the zeros of the field interpolated linearly along cell edges: on
+  // the sphere within the chord error cell^2 / (8 rb), inside it, as the
+  // field is concave along a line.)
+  const PointCloud pc = SpherePoints(6000, 0.5, Vec3::Zero(), 7);
+  const Vec3 b(0.5, 0, 0);
+  const double rb = 0.25;
+  SpsrOptions o;
+  SpsrInfo plain_info, info;
+  const Mesh plain = ReconstructSpsr(pc, o, Context(1), nullptr, &plain_info);
+  o.carve = [&](const std::vector<Vec3>& x, std::vector<double>& c) {
+    for (std::size_t i = 0; i < x.size(); ++i) c[i] = rb - (x[i] - b).norm();
+  };
+  const Mesh m = ReconstructSpsr(pc, o, Context(1), nullptr, &info);
+  const Topology t = ComputeTopology(m);
+  EXPECT_EQ(t.components, 1);
+  EXPECT_EQ(t.boundary_edges, 0);
+  EXPECT_EQ(t.nonmanifold_edges, 0);
+  EXPECT_EQ(t.genus, 0);
+  EXPECT_GT(info.carved_nodes, 0);
+  EXPECT_EQ(plain_info.carved_nodes, 0);
+  const double cell = 3.2 / (1 << info.extract_depth);
+  const double chord = cell * cell / (8 * rb);
+  int on_ball = 0;
+  for (int i = 0; i < m.NumVertices(); ++i) {
+    const Vec3 v = m.V.row(i);
+    const double db = (v - b).norm() - rb;  // < 0: inside the ball
+    EXPECT_GT(db, -chord - 1e-12) << "vertex " << i << " inside the carved ball";
+    if (v.norm() < 0.5 - 0.02) {  // off the sphere: on the dent
+      EXPECT_LT(std::abs(db), chord + 1e-12) << "vertex " << i;
+      ++on_ball;
+    }
+  }
+  EXPECT_GT(on_ball, 20);
+  // The lens: two caps of the balls R = 0.5 and r = 0.25, centres 0.5 apart.
+  const double R = 0.5, r = rb, dd = 0.5;
+  const double lens = kPi * (R + r - dd) * (R + r - dd) *
+                      (dd * dd + 2 * dd * r - 3 * r * r + 2 * dd * R + 6 * r * R - 3 * R * R) / (12 * dd);
+  EXPECT_NEAR(Volume(m), Volume(plain) - lens, 0.1 * lens + 2 * cell * cell);
+  // A field negative everywhere carves nothing: the same mesh.
+  o.carve = [](const std::vector<Vec3>& x, std::vector<double>& c) { c.assign(x.size(), -1.0); };
+  const Mesh same = ReconstructSpsr(pc, o, Context(1));
+  ASSERT_EQ(same.V.rows(), plain.V.rows());
+  EXPECT_EQ(same.V, plain.V);
+  EXPECT_EQ(same.F, plain.F);
+}
+
 TEST(Spsr, InwardNormalsThroughReconstructPoissonGiveTheSameOutwardSurface) {
   PointCloud pc = SpherePoints(2000, 0.5, Vec3::Zero(), 4);
   PoissonOptions o;

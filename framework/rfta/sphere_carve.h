@@ -1,0 +1,32 @@
+// The carving field of the outside spheres (issue 10, "topology from the
+// data"): every sample with s > 0 certifies that the open ball of radius s
+// around it holds no surface and lies outside the shape. A surface
+// reconstructed from RFTA's tangency points can still cut through such balls
+// where no point pins it down: sheets across a hollow, bulges over a concave
+// part. Carving the balls out of the reconstruction's solid removes exactly
+// what the samples rule out and nothing else; the screened Poisson's
+// marching cubes takes the field (SpsrOptions::carve).
+#pragma once
+
+#include "framework/types.h"
+
+#include <functional>
+#include <vector>
+
+namespace arcs {
+
+using CarveField = std::function<void(const std::vector<Vec3>& x, std::vector<double>& c)>;
+
+// c(x) = max over the samples with s > 0 of (s - |x - p|) - margin: positive
+// where x lies inside an outside sample's ball by more than `margin` (input
+// units; RFTA passes its tol, 1e-4 of the samples' largest extent), the
+// negated distance to the balls' union elsewhere. 3D samples only (throws
+// Error otherwise, and when no sample is positive). Thread-safe and
+// deterministic; evaluates in parallel.
+CarveField OutsideSpheresCarve(const SdfSamples& samples, double margin);
+
+// The margin (input units): max(tol_unit x the samples' unit-frame scale,
+// fraction x SampleSpacing(samples)).
+double CarveMargin(const SdfSamples& samples, double tol_unit, double fraction);
+
+}  // namespace arcs
