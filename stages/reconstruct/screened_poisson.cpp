@@ -2,6 +2,7 @@
 // reconstruction (Kazhdan & Hoppe 2013; PCL's port), the reconstructor RFTA
 // uses. Defaults follow the official RFTA call where PCL has the parameter.
 #include "framework/reconstruct/poisson.h"
+#include "framework/rfta/arc_projector.h"
 #include "framework/rfta/sphere_carve.h"
 #include "registry/bind.h"
 #include "stages/builtin.h"
@@ -87,9 +88,6 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
               Closed(0.0, 10.0));
 }
 
-// RFTA's containment tolerance (FeasibleSearchOptions::tol, unit frame).
-constexpr double kCarveTolUnit = 1e-4;
-
 void RunScreenedPoisson(Context& ctx, CaseData& d, const PoissonOptions& options, const ParamMap&) {
   if (!d.points->HasNormals()) throw Error("needs oriented points (points with normals), got points without normals");
   PoissonOptions o = options;
@@ -99,7 +97,7 @@ void RunScreenedPoisson(Context& ctx, CaseData& d, const PoissonOptions& options
     if (o.backend != PoissonOptions::Backend::kArcs)
       throw Error("carve_spheres: only backend arcs can carve its surface");
     if (d.samples->dim != 3) throw Error("carve_spheres: needs 3D SDF samples");
-    o.carve = OutsideSpheresCarve(*d.samples, CarveMargin(*d.samples, kCarveTolUnit, o.carve_margin));
+    o.carve = OutsideSpheresCarve(*d.samples, CarveMargin(*d.samples, FeasibleSearchOptions{}.tol, o.carve_margin));
   }
   // Resolve the automatic depth here so the row records the depth used.
   if (o.depth == 0) o.depth = AutoPoissonDepth(*d.points, o);
