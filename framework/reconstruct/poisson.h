@@ -128,7 +128,7 @@ struct PoissonOptions {
   // it. The screened_poisson stage builds it from the case's SDF samples
   // when carve_spheres is set (framework/rfta/sphere_carve.h); the field
   // itself is not read by ReconstructPoisson.
-  std::function<void(const std::vector<Vec3>& x, std::vector<double>& c)> carve;
+  SpsrCarve carve;
   bool carve_spheres = false;
   double carve_margin = 0.0;  // the stage's: a fraction of the samples' spacing (CarveMargin)
 

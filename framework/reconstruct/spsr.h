@@ -56,6 +56,18 @@
 
 namespace arcs {
 
+// A carving field c (input frame) for the marching cubes: where c > 0 the
+// solid is removed, whatever χ says (SpsrOptions::carve).
+struct SpsrCarve {
+  // Which of the points x the field claims: inside[i] = 1 where c(x[i]) > 0,
+  // else 0 (`inside` resized by the callee). Called with batches of any size.
+  std::function<void(const std::vector<Vec3>& x, std::vector<char>& inside)> claims;
+  // c(x) itself, read only at the two ends of an edge where the claim
+  // changes, to place the vertex. Thread-safe.
+  std::function<double(const Vec3& x)> value;
+  explicit operator bool() const { return static_cast<bool>(claims); }
+};
+
 struct SpsrOptions {
   int depth = 10;               // finest level (2..12)
   int full_depth = 5;           // levels up to here are complete (clamped to depth)
@@ -121,16 +133,14 @@ struct SpsrOptions {
   // holds one sample; merged drops the spread of χ inside a cell.
   enum class ScreenSamples { kEach, kMerged };
   ScreenSamples screen_samples = ScreenSamples::kEach;
-  // Optional carving field (empty = none). Called with marching-cubes node
-  // positions x (input frame), it writes c(x) into `c` (same size); where
-  // c > 0 the node is outside whatever χ says, so the solid is χ's inside
-  // minus {c > 0} and the surface there follows c's zero set (the crossing
-  // on an edge is where the first of χ - iso and c changes side, each
-  // linear along the edge). RFTA's final surface uses it to carve away the
-  // sample spheres that certify empty space (rfta `carve`,
-  // framework/rfta/sphere_carve.h). May be called from any thread, with
-  // batches of any size; must be deterministic.
-  std::function<void(const std::vector<Vec3>& x, std::vector<double>& c)> carve;
+  // Optional carving field (empty = none). A marching-cubes node the field
+  // claims (c > 0) is outside whatever χ says, so the solid is χ's inside
+  // minus {c > 0} and the surface there follows c's zero set: on an edge the
+  // vertex is where the first of χ - iso and c changes side, each linear
+  // along the edge. RFTA's final surface uses it to carve away the sample
+  // spheres that certify empty space (rfta `carve`,
+  // framework/rfta/sphere_carve.h). Both functions must be deterministic.
+  SpsrCarve carve;
 };
 
 // Solution of one call, reusable as the starting guess of the next

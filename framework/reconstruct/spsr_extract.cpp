@@ -97,15 +97,21 @@ Mesh Solver::Extract(double iso) {
     return Vec3(((KX(k) + 0.0) / res - 0.5) * side_ + center_[0], ((KY(k) + 0.0) / res - 0.5) * side_ + center_[1],
                 ((KZ(k) + 0.0) / res - 0.5) * side_ + center_[2]);
   };
-  // c at the nodes `keys` (sorted, unique, none in cmap yet).
+  // The field's claims at the nodes `keys` (sorted, unique, none in cmap
+  // yet), kept as 1 (c > 0) or -1; c itself is read only where a vertex
+  // is placed.
   auto eval_carve = [&](const std::vector<Key>& keys) {
     if (!carving || keys.empty()) return;
     std::vector<Vec3> x(keys.size());
     for (std::size_t i = 0; i < keys.size(); ++i) x[i] = node_pos(keys[i]);
-    std::vector<double> c(keys.size(), 0.0);
-    o_.carve(x, c);
-    if (c.size() != keys.size()) throw Error("screened Poisson: the carving field returned the wrong count");
-    for (std::size_t i = 0; i < keys.size(); ++i) carved_ += c[i] > 0 && *gmap.Lookup(keys[i]) < 0;
+    std::vector<char> inside;
+    o_.carve.claims(x, inside);
+    if (inside.size() != keys.size()) throw Error("screened Poisson: the carving field returned the wrong count");
+    std::vector<double> c(keys.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      c[i] = inside[i] ? 1.0 : -1.0;
+      carved_ += inside[i] && *gmap.Lookup(keys[i]) < 0;
+    }
     cmap.SetMany(keys, c);
   };
   auto C = [&](int x, int y, int z) {
@@ -317,9 +323,10 @@ Mesh Solver::Extract(double iso) {
   std::vector<std::array<int, 3>> tris;
   // The vertex on the edge from node (x, y, z) along `axis`, whose end
   // values are g0 and g1 (the edge's own G values) and c0, c1 (the carving
-  // field's; 0 without carving). Without carving: χ's crossing. With it,
-  // the crossing nearer the edge's inside end of the two functions that
-  // change side there (χ - iso at 0, c at 0), each linear along the edge.
+  // field's claims, 1 or -1; 0 without carving). Without carving: χ's
+  // crossing. With it, the crossing nearer the edge's inside end of the two
+  // functions that change side there (χ - iso at 0, c at 0), each linear
+  // along the edge (c read at both ends).
   auto vertex = [&](int x, int y, int z, int axis, double g0, double g1, double c0, double c1) {
     const Key k = Pack(x, y, z);
     if (const int* id = emap[axis].Lookup(k)) return *id;
@@ -327,7 +334,13 @@ Mesh Solver::Extract(double iso) {
     if (carving) {
       const bool in0 = g0 < 0 && !(c0 > 0);
       const bool g_cross = (g0 < 0) != (g1 < 0), c_cross = (c0 > 0) != (c1 > 0);
-      const double fc = c_cross ? c0 / (c0 - c1) : 0.0;
+      double fc = 0.0;
+      if (c_cross) {
+        int end[3] = {x, y, z};
+        ++end[axis];
+        const double v0 = o_.carve.value(node_pos(k)), v1 = o_.carve.value(node_pos(Pack(end[0], end[1], end[2])));
+        fc = std::clamp(v0 / (v0 - v1), 0.0, 1.0);
+      }
       if (!g_cross) f = fc;
       else if (c_cross) f = in0 ? std::min(f, fc) : std::max(f, fc);
     }

@@ -35,12 +35,19 @@ CarveField OutsideSpheresCarve(const SdfSamples& samples, double margin) {
     ++k;
   }
   auto tree = std::make_shared<const SphereTree>(centers, radii, ids);
-  return [tree, margin](const std::vector<Vec3>& x, std::vector<double>& c) {
-    c.resize(x.size());
+  CarveField f;
+  // Containment (the query the tree is built for) decides; the distance to
+  // the union, slower near the surface where thousands of balls are almost
+  // tangent, is computed only where a vertex is placed (session 41: bunny_fixed
+  // n = 40's final step 0.84 -> 4.2 s when every node asked for it).
+  f.claims = [tree, margin](const std::vector<Vec3>& x, std::vector<char>& inside) {
+    inside.assign(x.size(), 0);
     ParallelFor(static_cast<std::int64_t>(x.size()), [&](std::int64_t b, std::int64_t e) {
-      for (std::int64_t i = b; i < e; ++i) c[i] = -tree->DistanceToUnion(x[i], 1.0) - margin;
+      for (std::int64_t i = b; i < e; ++i) inside[i] = tree->AnyContains(x[i], -margin, /*ignore_id=*/-1);
     }, 256);
   };
+  f.value = [tree, margin](const Vec3& x) { return -tree->DistanceToUnion(x, 1.0) - margin; };
+  return f;
 }
 
 }  // namespace arcs

@@ -8,21 +8,20 @@
 // marching cubes takes the field (SpsrOptions::carve).
 #pragma once
 
+#include "framework/reconstruct/spsr.h"
 #include "framework/types.h"
-
-#include <functional>
-#include <vector>
 
 namespace arcs {
 
-using CarveField = std::function<void(const std::vector<Vec3>& x, std::vector<double>& c)>;
+using CarveField = SpsrCarve;
 
 // c(x) = max over the samples with s > 0 of (s - |x - p|) - margin: positive
 // where x lies inside an outside sample's ball by more than `margin` (input
 // units; RFTA passes its tol, 1e-4 of the samples' largest extent), the
-// negated distance to the balls' union elsewhere. 3D samples only (throws
-// Error otherwise, and when no sample is positive). Thread-safe and
-// deterministic; evaluates in parallel.
+// negated distance to the balls' union elsewhere. `claims` answers c > 0 by
+// a containment query (a ball with |x - p| < s - margin; in parallel),
+// `value` computes c. 3D samples only (throws Error otherwise, and when no
+// sample is positive). Thread-safe and deterministic.
 CarveField OutsideSpheresCarve(const SdfSamples& samples, double margin);
 
 // The margin (input units): max(tol_unit x the samples' unit-frame scale,

@@ -385,8 +385,10 @@ TEST(Spsr, CarvingRemovesABallAndFollowsItsBoundary) {
   SpsrOptions o;
   SpsrInfo plain_info, info;
   const Mesh plain = ReconstructSpsr(pc, o, Context(1), nullptr, &plain_info);
-  o.carve = [&](const std::vector<Vec3>& x, std::vector<double>& c) {
-    for (std::size_t i = 0; i < x.size(); ++i) c[i] = rb - (x[i] - b).norm();
+  o.carve.value = [&](const Vec3& x) { return rb - (x - b).norm(); };
+  o.carve.claims = [&](const std::vector<Vec3>& x, std::vector<char>& in) {
+    in.resize(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) in[i] = o.carve.value(x[i]) > 0;
   };
   const Mesh m = ReconstructSpsr(pc, o, Context(1), nullptr, &info);
   const Topology t = ComputeTopology(m);
@@ -415,7 +417,8 @@ TEST(Spsr, CarvingRemovesABallAndFollowsItsBoundary) {
                       (dd * dd + 2 * dd * r - 3 * r * r + 2 * dd * R + 6 * r * R - 3 * R * R) / (12 * dd);
   EXPECT_NEAR(Volume(m), Volume(plain) - lens, 0.1 * lens + 2 * cell * cell);
   // A field negative everywhere carves nothing: the same mesh.
-  o.carve = [](const std::vector<Vec3>& x, std::vector<double>& c) { c.assign(x.size(), -1.0); };
+  o.carve.claims = [](const std::vector<Vec3>& x, std::vector<char>& in) { in.assign(x.size(), 0); };
+  o.carve.value = [](const Vec3&) { return -1.0; };
   const Mesh same = ReconstructSpsr(pc, o, Context(1));
   ASSERT_EQ(same.V.rows(), plain.V.rows());
   EXPECT_EQ(same.V, plain.V);
