@@ -59,13 +59,16 @@ namespace arcs {
 // A carving field c (input frame) for the marching cubes: where c > 0 the
 // solid is removed, whatever χ says (SpsrOptions::carve).
 struct SpsrCarve {
-  // Which of the points x the field claims: inside[i] = 1 where c(x[i]) > 0,
-  // else 0 (`inside` resized by the callee). Called with batches of any size.
-  std::function<void(const std::vector<Vec3>& x, std::vector<char>& inside)> claims;
-  // c(x) itself, read only at the two ends of an edge where the claim
-  // changes, to place the vertex. Thread-safe.
+  // c at the points x (`c` resized by the callee): wherever |c(x[i])| <
+  // reach, exactly the value `value` gives there; elsewhere any value on the
+  // same side at least reach from 0 (<= -reach, >= reach; infinities too).
+  // Called with batches of any size (marching cubes' nodes, reach one cell).
+  std::function<void(const std::vector<Vec3>& x, double reach, std::vector<double>& c)> near;
+  // c(x) itself: where an edge's two ends disagree on c > 0 and one of them
+  // was not within reach (never for a 1-Lipschitz c, up to rounding).
+  // Thread-safe.
   std::function<double(const Vec3& x)> value;
-  explicit operator bool() const { return static_cast<bool>(claims); }
+  explicit operator bool() const { return static_cast<bool>(near); }
 };
 
 struct SpsrOptions {

@@ -90,28 +90,26 @@ Mesh Solver::Extract(double iso) {
   };
   // The carving field (SpsrOptions::carve) at the nodes gmap holds, in cmap
   // (empty without carving): a node is inside iff χ says so (G < 0) and the
-  // field does not (c <= 0).
+  // field does not (c <= 0). cmap holds c exactly wherever c > -edge_len
+  // (one finest cell) and c < edge_len, elsewhere a value as far on the same
+  // side: a crossed edge whose ends disagree on c > 0 then places its
+  // vertex from the values at hand.
   const bool carving = static_cast<bool>(o_.carve);
   NodeCache<double> cmap(L - F_, (1 << F_) + 1);
   auto node_pos = [&](Key k) {
     return Vec3(((KX(k) + 0.0) / res - 0.5) * side_ + center_[0], ((KY(k) + 0.0) / res - 0.5) * side_ + center_[1],
                 ((KZ(k) + 0.0) / res - 0.5) * side_ + center_[2]);
   };
-  // The field's claims at the nodes `keys` (sorted, unique, none in cmap
-  // yet), kept as 1 (c > 0) or -1; c itself is read only where a vertex
-  // is placed.
+  const double edge_len = side_ / res;
+  // The field at the nodes `keys` (sorted, unique, none in cmap yet).
   auto eval_carve = [&](const std::vector<Key>& keys) {
     if (!carving || keys.empty()) return;
     std::vector<Vec3> x(keys.size());
     for (std::size_t i = 0; i < keys.size(); ++i) x[i] = node_pos(keys[i]);
-    std::vector<char> inside;
-    o_.carve.claims(x, inside);
-    if (inside.size() != keys.size()) throw Error("screened Poisson: the carving field returned the wrong count");
-    std::vector<double> c(keys.size());
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-      c[i] = inside[i] ? 1.0 : -1.0;
-      carved_ += inside[i] && *gmap.Lookup(keys[i]) < 0;
-    }
+    std::vector<double> c;
+    o_.carve.near(x, edge_len, c);
+    if (c.size() != keys.size()) throw Error("screened Poisson: the carving field returned the wrong count");
+    for (std::size_t i = 0; i < keys.size(); ++i) carved_ += c[i] > 0 && *gmap.Lookup(keys[i]) < 0;
     cmap.SetMany(keys, c);
   };
   auto C = [&](int x, int y, int z) {
@@ -323,10 +321,9 @@ Mesh Solver::Extract(double iso) {
   std::vector<std::array<int, 3>> tris;
   // The vertex on the edge from node (x, y, z) along `axis`, whose end
   // values are g0 and g1 (the edge's own G values) and c0, c1 (the carving
-  // field's claims, 1 or -1; 0 without carving). Without carving: χ's
-  // crossing. With it, the crossing nearer the edge's inside end of the two
-  // functions that change side there (χ - iso at 0, c at 0), each linear
-  // along the edge (c read at both ends).
+  // field; 0 without carving). Without carving: χ's crossing. With it, the
+  // crossing nearer the edge's inside end of the two functions that change
+  // side there (χ - iso at 0, c at 0), each linear along the edge.
   auto vertex = [&](int x, int y, int z, int axis, double g0, double g1, double c0, double c1) {
     const Key k = Pack(x, y, z);
     if (const int* id = emap[axis].Lookup(k)) return *id;
@@ -334,15 +331,17 @@ Mesh Solver::Extract(double iso) {
     if (carving) {
       const bool in0 = g0 < 0 && !(c0 > 0);
       const bool g_cross = (g0 < 0) != (g1 < 0), c_cross = (c0 > 0) != (c1 > 0);
-      double fc = 0.0;
       if (c_cross) {
         int end[3] = {x, y, z};
         ++end[axis];
-        const double v0 = o_.carve.value(node_pos(k)), v1 = o_.carve.value(node_pos(Pack(end[0], end[1], end[2])));
-        fc = std::clamp(v0 / (v0 - v1), 0.0, 1.0);
+        // Beyond reach cmap may hold a bound only (never here for a
+        // 1-Lipschitz c: one end claimed, both are within reach).
+        const double v0 = std::abs(c0) < edge_len ? c0 : o_.carve.value(node_pos(k));
+        const double v1 = std::abs(c1) < edge_len ? c1 : o_.carve.value(node_pos(Pack(end[0], end[1], end[2])));
+        const double fc = std::clamp(v0 / (v0 - v1), 0.0, 1.0);
+        if (!g_cross) f = fc;
+        else f = in0 ? std::min(f, fc) : std::max(f, fc);
       }
-      if (!g_cross) f = fc;
-      else if (c_cross) f = in0 ? std::min(f, fc) : std::max(f, fc);
     }
     Vec3 pos((x + 0.0) / res, (y + 0.0) / res, (z + 0.0) / res);
     pos[axis] += f / res;

@@ -17,11 +17,11 @@ using CarveField = SpsrCarve;
 
 // c(x) = max over the samples with s > 0 of (s - |x - p|) - margin: positive
 // where x lies inside an outside sample's ball by more than `margin` (input
-// units; RFTA passes its tol, 1e-4 of the samples' largest extent), the
-// negated distance to the balls' union elsewhere. `claims` answers c > 0 by
-// a containment query (a ball with |x - p| < s - margin; in parallel),
-// `value` computes c. 3D samples only (throws Error otherwise, and when no
-// sample is positive). Thread-safe and deterministic.
+// units; see CarveMargin), the negated distance to the balls' union
+// elsewhere (1-Lipschitz). `near` computes c for a batch of points in
+// parallel, each block of points against the balls that can reach it;
+// `value` by a tree query. 3D samples only (throws Error otherwise, and when
+// no sample is positive). Thread-safe and deterministic.
 CarveField OutsideSpheresCarve(const SdfSamples& samples, double margin);
 
 // The margin (input units): max(tol_unit x the samples' unit-frame scale,

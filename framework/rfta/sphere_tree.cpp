@@ -406,6 +406,15 @@ bool SphereTree::AnyCovers(const Vec3& x, double scale2) const {
   return false;
 }
 
+double SphereTree::MinDistance(const Vec3& x, const std::vector<int>& balls, double stop) const {
+  double best = std::numeric_limits<double>::infinity();
+  for (int k : balls) {
+    best = std::min(best, std::sqrt(BallDist2(balls_[k], x)) - 1.0 * balls_[k].r);
+    if (best <= stop) break;
+  }
+  return best;
+}
+
 double SphereTree::DistanceToUnion(const Vec3& x, double scale) const {
   double best = std::numeric_limits<double>::infinity();
   if (nodes_.empty()) return best;

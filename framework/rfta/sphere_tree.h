@@ -84,6 +84,13 @@ class SphereTree {
   void DeepestContaining(const Vec3& x, double offset, int k, int ignore_id, std::vector<int>* out,
                          const LocalSet* local = nullptr) const;
 
+  // min over the balls `balls` (tree indices) of |x - c| - r, in their
+  // order, stopping at the first term <= stop (returned). With a LocalSet's
+  // list: DistanceToUnion(x, 1) wherever that is below the set's offset, x
+  // lies in its box and no term reaches stop.
+  double MinDistance(const Vec3& x, const std::vector<int>& balls,
+                     double stop = -std::numeric_limits<double>::infinity()) const;
+
   // Scaled-ball coverage (the rasteriser's test): is there a ball with
   // |x - c|^2 <= scale2 * r^2?
   bool AnyCovers(const Vec3& x, double scale2) const;

@@ -386,11 +386,33 @@ TEST(Spsr, CarvingRemovesABallAndFollowsItsBoundary) {
   SpsrInfo plain_info, info;
   const Mesh plain = ReconstructSpsr(pc, o, Context(1), nullptr, &plain_info);
   o.carve.value = [&](const Vec3& x) { return rb - (x - b).norm(); };
-  o.carve.claims = [&](const std::vector<Vec3>& x, std::vector<char>& in) {
-    in.resize(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) in[i] = o.carve.value(x[i]) > 0;
+  o.carve.near = [&](const std::vector<Vec3>& x, double, std::vector<double>& c) {
+    c.resize(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) c[i] = o.carve.value(x[i]);
   };
   const Mesh m = ReconstructSpsr(pc, o, Context(1), nullptr, &info);
+  {
+    // A field that gives only a bound beyond reach (as SpsrCarve::near
+    // allows): the same mesh, with value() asked only where needed.
+    SpsrOptions o2 = o;
+    int asked = 0;
+    o2.carve.near = [&](const std::vector<Vec3>& x, double reach, std::vector<double>& c) {
+      EXPECT_GT(reach, 0);
+      c.resize(x.size());
+      for (std::size_t i = 0; i < x.size(); ++i) {
+        const double v = rb - (x[i] - b).norm();
+        c[i] = std::abs(v) < reach ? v : (v > 0 ? reach + 1.0 : -reach - 1.0);
+      }
+    };
+    o2.carve.value = [&](const Vec3& x) {
+      ++asked;
+      return rb - (x - b).norm();
+    };
+    const Mesh m2 = ReconstructSpsr(pc, o2, Context(1));
+    EXPECT_EQ(m2.V, m.V);
+    EXPECT_EQ(m2.F, m.F);
+    EXPECT_EQ(asked, 0);  // c is 1-Lipschitz: a claimed node's neighbours are within reach
+  }
   const Topology t = ComputeTopology(m);
   EXPECT_EQ(t.components, 1);
   EXPECT_EQ(t.boundary_edges, 0);
@@ -417,7 +439,7 @@ TEST(Spsr, CarvingRemovesABallAndFollowsItsBoundary) {
                       (dd * dd + 2 * dd * r - 3 * r * r + 2 * dd * R + 6 * r * R - 3 * R * R) / (12 * dd);
   EXPECT_NEAR(Volume(m), Volume(plain) - lens, 0.1 * lens + 2 * cell * cell);
   // A field negative everywhere carves nothing: the same mesh.
-  o.carve.claims = [](const std::vector<Vec3>& x, std::vector<char>& in) { in.assign(x.size(), 0); };
+  o.carve.near = [](const std::vector<Vec3>& x, double, std::vector<double>& c) { c.assign(x.size(), -1.0); };
   o.carve.value = [](const Vec3&) { return -1.0; };
   const Mesh same = ReconstructSpsr(pc, o, Context(1));
   ASSERT_EQ(same.V.rows(), plain.V.rows());
