@@ -26,6 +26,7 @@
 //   rfta_bench [all | torus20 | torus40 | bunny20 | armadillo40]
 //   rfta_bench scaling [SHAPE] [NMAX]
 //   rfta_bench figure14 [NMAX [NMIN]]
+//   rfta_bench carve [SHAPE [N [REPEATS]]]
 // "figure14" is the paper's runtime figure itself (bunny_fixed, k_max 10,
 // n_max 3, the paper's n = 5 ... 150 up to NMAX), each n beside the paper's
 // time and the ratio ours / paper, with peak memory (see Figure14).
@@ -34,6 +35,12 @@
 // wall time, peak resident memory of each run (reset before it), the number
 // of samples N = (n+1)^3, and the growth exponent of the time between
 // consecutive n (1 = linear in N; N log N gives slightly above 1).
+// "carve" times what carving (RftaOptions::carve) adds to the final surface:
+// RFTA's paper preset on SHAPE (default armadillo) at N (default 40) once,
+// then the final screened Poisson on its points REPEATS times (default 5)
+// with carving and without, interleaved (the field built inside the timed
+// part, as the library builds it); prints the medians of wall and CPU time,
+// the ratios on / off, and the meshes' sizes.
 // Both run the library's ReachForTheArcs (framework/rfta/
 // reach_for_the_arcs.h) with screened Poisson options; RFTA_BENCH_VIA=registry
 // runs the registered `rfta` stage instead (the same result, tested in
@@ -45,13 +52,16 @@
 #include "framework/geometry/normalize.h"
 #include "framework/io/mesh_io.h"
 #include "framework/rfta/reach_for_the_arcs.h"
+#include "framework/rfta/sphere_carve.h"
 #include "framework/sdf/sdf_sampling.h"
 #include "framework/util/parallel.h"
 #include "registry/registry.h"
 #include "stages/builtin.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -329,6 +339,52 @@ int Figure14(const Registry& registry, int nmax, int nmin) {
   return 0;
 }
 
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n == 0 ? NAN : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+int Carve(const std::string& shape, int n, int repeats) {
+  if (shape != "torus" && !std::filesystem::exists(std::string(ARCS_SHARED_DIR) + "/data/bench/" + shape + ".obj")) {
+    std::printf("carve skipped: %s not found in %s/data/bench\n", shape.c_str(), ARCS_SHARED_DIR);
+    return 0;
+  }
+  Mesh mesh = LoadShape(shape);
+  Normalize(&mesh, NormalizeOptions{});
+  Context ctx(1);
+  SdfGridOptions go;
+  go.n = n;
+  const SdfSamples samples = SampleSdfGrid(mesh, go, ctx);
+  RftaOptions o;
+  o.fine_tune.iterations = 20;
+  o.fine_tune.max_points_per_sphere = 30;
+  o.carve = false;
+  const RftaResult r = ReachForTheArcs(samples, o, ctx);
+  std::printf("carving's cost in RFTA's final surface: %s n = %d, paper preset, %lld tangency points, %d threads\n",
+              shape.c_str(), n, static_cast<long long>(r.points.P.rows()), MaxThreads());
+  std::vector<double> wall[2], cpu[2];
+  Mesh out[2];
+  for (int rep = 0; rep < repeats; ++rep)
+    for (int on = 0; on < 2; ++on) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const std::clock_t c0 = std::clock();
+      RftaOptions f = o;
+      if (on)
+        f.poisson.carve = OutsideSpheresCarve(samples, CarveMargin(samples, o.fine_tune.search.tol, o.carve_margin));
+      out[on] = std::get<Mesh>(DefaultRftaReconstructor(3, f, /*tuning=*/false, ctx)(r.points));
+      wall[on].push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      cpu[on].push_back(static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC);
+    }
+  for (int on = 0; on < 2; ++on)
+    std::printf("  carve %-3s wall median %7.3f s (min %.3f, max %.3f)  CPU median %7.3f s  %d vertices\n",
+                on ? "on" : "off", Median(wall[on]), *std::min_element(wall[on].begin(), wall[on].end()),
+                *std::max_element(wall[on].begin(), wall[on].end()), Median(cpu[on]), out[on].NumVertices());
+  std::printf("  on / off: wall %.3f, CPU %.3f (medians of %d interleaved repeats)\n", Median(wall[1]) / Median(wall[0]),
+              Median(cpu[1]) / Median(cpu[0]), repeats);
+  return 0;
+}
+
 int main(int argc, char** argv) {
   // As the arcs command does (orchestration/memory.h); RFTA_BENCH_GLIBC_FREE=1
   // leaves glibc's defaults, for the comparison.
@@ -338,6 +394,8 @@ int main(int argc, char** argv) {
   RegisterBuiltinStages(registry);
   if (which == "figure14")
     return Figure14(registry, argc > 2 ? std::atoi(argv[2]) : 150, argc > 3 ? std::atoi(argv[3]) : 0);
+  if (which == "carve")
+    return Carve(argc > 2 ? argv[2] : "armadillo", argc > 3 ? std::atoi(argv[3]) : 40, argc > 4 ? std::atoi(argv[4]) : 5);
   if (which == "scaling")
     return Scaling(registry, argc > 2 ? argv[2] : "torus", argc > 3 ? std::atoi(argv[3]) : 100);
   const BenchCase cases[] = {
