@@ -409,6 +409,7 @@ Mesh ReconstructPoisson(const PointCloud& oriented, const PoissonOptions& option
     so.iso_weight = options.iso_weight;
     so.screen_samples = options.screen_samples;
     so.carve = options.carve;
+    so.carve_keep_voids = options.carve_keep_voids;
     std::shared_ptr<SpsrWarmStart> state;
     const bool use_warm = warm && options.warm_start;
     if (use_warm) state = std::static_pointer_cast<SpsrWarmStart>(*warm);

@@ -131,6 +131,7 @@ struct PoissonOptions {
   SpsrCarve carve;
   bool carve_spheres = false;
   double carve_margin = 0.0;  // the stage's: a fraction of the samples' spacing (CarveMargin)
+  bool carve_keep_voids = false;  // SpsrOptions::carve_keep_voids
 
   static constexpr int kMinAutoDepth = 6;
   static constexpr int kMaxAutoDepth = 10;

@@ -906,6 +906,7 @@ Mesh Solver::Run(const PointCloud& pc, std::shared_ptr<SpsrWarmStart>* warm, Sps
     info->extract_depth = extract_level_;
     info->islands_removed = islands_;
     info->carved_nodes = carved_;
+    info->carve_only_components = carve_only_;
     info->iso_value = iso;
     info->area = area;
     info->unknowns = unknowns;

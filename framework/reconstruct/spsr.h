@@ -144,6 +144,9 @@ struct SpsrOptions {
   // spheres that certify empty space (rfta `carve`,
   // framework/rfta/sphere_carve.h). Both functions must be deterministic.
   SpsrCarve carve;
+  // With `carve`: keep closed components that have no vertex on χ's
+  // surface (voids the field alone makes inside χ's solid); default: drop them.
+  bool carve_keep_voids = false;
 };
 
 // Solution of one call, reusable as the starting guess of the next
@@ -155,6 +158,7 @@ struct SpsrInfo {
   int extract_depth = 0;       // level of the marching cubes
   int islands_removed = 0;     // one-node islands given their neighbours' mean
   long long carved_nodes = 0;  // marching-cubes nodes inside χ's solid that `carve` moved outside
+  long long carve_only_components = 0;  // components with no vertex on χ's surface (voids `carve` alone made), dropped
   double iso_value = 0;
   double area = 0;             // Σ a_s, in units of the cube's side squared
   long long unknowns = 0;      // coefficients over all levels

@@ -6,6 +6,8 @@
 #include "framework/reconstruct/spsr_solver.h"
 
 #include "framework/geometry/marching_cubes.h"
+#include "framework/geometry/submesh.h"
+#include "framework/spatial/topology.h"
 #include "framework/util/parallel.h"
 
 #include <algorithm>
@@ -319,6 +321,7 @@ Mesh Solver::Extract(double iso) {
   NodeCache<int> emap[3];
   std::vector<Vec3> verts;
   std::vector<std::array<int, 3>> tris;
+  std::vector<char> on_chi;  // per vertex: placed at χ's crossing (not the carving field's)
   // The vertex on the edge from node (x, y, z) along `axis`, whose end
   // values are g0 and g1 (the edge's own G values) and c0, c1 (the carving
   // field; 0 without carving). Without carving: χ's crossing. With it, the
@@ -328,6 +331,7 @@ Mesh Solver::Extract(double iso) {
     const Key k = Pack(x, y, z);
     if (const int* id = emap[axis].Lookup(k)) return *id;
     double f = g0 / (g0 - g1);
+    bool chi_vertex = true;  // placed at χ's crossing
     if (carving) {
       const bool in0 = g0 < 0 && !(c0 > 0);
       const bool g_cross = (g0 < 0) != (g1 < 0), c_cross = (c0 > 0) != (c1 > 0);
@@ -339,14 +343,20 @@ Mesh Solver::Extract(double iso) {
         const double v0 = std::abs(c0) < edge_len ? c0 : o_.carve.value(node_pos(k));
         const double v1 = std::abs(c1) < edge_len ? c1 : o_.carve.value(node_pos(Pack(end[0], end[1], end[2])));
         const double fc = std::clamp(v0 / (v0 - v1), 0.0, 1.0);
-        if (!g_cross) f = fc;
-        else f = in0 ? std::min(f, fc) : std::max(f, fc);
+        if (!g_cross) {
+          f = fc;
+          chi_vertex = false;
+        } else {
+          chi_vertex = in0 ? f <= fc : f >= fc;
+          f = in0 ? std::min(f, fc) : std::max(f, fc);
+        }
       }
     }
     Vec3 pos((x + 0.0) / res, (y + 0.0) / res, (z + 0.0) / res);
     pos[axis] += f / res;
     emap[axis].Set(k, static_cast<int>(verts.size()));
     verts.push_back(pos);
+    on_chi.push_back(chi_vertex);
     return static_cast<int>(verts.size()) - 1;
   };
   // Breadth-first, a round at a time: the cells of a round in the order a
@@ -441,6 +451,27 @@ Mesh Solver::Extract(double iso) {
   m.F.resize(static_cast<Eigen::Index>(tris.size()), 3);
   for (std::size_t i = 0; i < tris.size(); ++i)
     m.F.row(static_cast<Eigen::Index>(i)) << tris[i][0], tris[i][1], tris[i][2];
+  if (carving && o_.carve_keep_voids == false) {
+    // Carving cuts the surface χ proposes; a closed component with no vertex
+    // on χ's surface is one it made alone: the boundary of a ball lying wholly
+    // inside χ's solid (a void around an outside sample that the solid
+    // covers). Such components are dropped: the surface keeps χ's components
+    // and their cuts (session 42).
+    int nc = 0;
+    const std::vector<int> comp = FaceComponents(m, &nc);
+    std::vector<char> has_chi(nc, 0);
+    for (Eigen::Index f = 0; f < m.F.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (on_chi[static_cast<std::size_t>(m.F(f, k))]) has_chi[comp[f]] = 1;
+    long long dropped = 0;
+    for (int c = 0; c < nc; ++c) dropped += !has_chi[c];
+    if (dropped > 0) {
+      std::vector<char> keep(static_cast<std::size_t>(m.F.rows()));
+      for (Eigen::Index f = 0; f < m.F.rows(); ++f) keep[f] = has_chi[comp[f]];
+      m = KeepFaces(m, keep);
+      carve_only_ += dropped;
+    }
+  }
   return m;
 }
 

@@ -137,6 +137,7 @@ class Solver {
   int extract_level_ = 0;
   int islands_ = 0;
   long long carved_ = 0;
+  long long carve_only_ = 0;  // closed components made by the carving field alone, dropped
   double last_residual_ = 0;  // SolveLevel's relative residual at its end
   // χ at p (unit cube), trilinear on the finest level's grid.
   double ChiWith(const Vec3& p, Memo& memo) const;

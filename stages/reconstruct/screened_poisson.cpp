@@ -85,7 +85,10 @@ Binder<PoissonOptions> ScreenedPoissonParams() {
       .Double("carve_margin", &O::carve_margin,
               "carve_spheres: carve only where a ball is entered by more than this fraction of the samples' "
               "spacing (at least RFTA's tol)",
-              Closed(0.0, 10.0));
+              Closed(0.0, 10.0))
+      .Bool("carve_keep_voids", &O::carve_keep_voids,
+            "carve_spheres: keep the closed voids carving alone makes (balls lying wholly inside the solid, "
+            "components with no vertex on the Poisson surface); default: dropped");
 }
 
 void RunScreenedPoisson(Context& ctx, CaseData& d, const PoissonOptions& options, const ParamMap&) {

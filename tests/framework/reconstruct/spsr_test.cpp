@@ -447,6 +447,38 @@ TEST(Spsr, CarvingRemovesABallAndFollowsItsBoundary) {
   EXPECT_EQ(same.F, plain.F);
 }
 
+// A ball lying wholly inside χ's solid: carving it would leave a closed void
+// around it, a component with no vertex on χ's surface. By default it is
+// dropped and the mesh is the uncarved one to the bit; carve_keep_voids keeps
+// it (a second closed component, facing inward: the volume falls by the
+// ball's).
+TEST(Spsr, CarvingDropsAVoidItAloneWouldMake) {
+  const PointCloud pc = SpherePoints(6000, 0.5, Vec3::Zero(), 7);
+  const double rb = 0.12;
+  SpsrOptions o;
+  const Mesh plain = ReconstructSpsr(pc, o, Context(1));
+  o.carve.value = [&](const Vec3& x) { return rb - x.norm(); };
+  o.carve.near = [&](const std::vector<Vec3>& x, double, std::vector<double>& c) {
+    c.resize(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) c[i] = rb - x[i].norm();
+  };
+  SpsrInfo info;
+  const Mesh m = ReconstructSpsr(pc, o, Context(1), nullptr, &info);
+  EXPECT_EQ(info.carve_only_components, 1);
+  EXPECT_GT(info.carved_nodes, 0);
+  EXPECT_EQ(m.V, plain.V);
+  EXPECT_EQ(m.F, plain.F);
+  o.carve_keep_voids = true;
+  SpsrInfo kept_info;
+  const Mesh kept = ReconstructSpsr(pc, o, Context(1), nullptr, &kept_info);
+  EXPECT_EQ(kept_info.carve_only_components, 0);
+  const Topology t = ComputeTopology(kept);
+  EXPECT_EQ(t.components, 2);
+  EXPECT_EQ(t.boundary_edges, 0);
+  const double ball = 4.0 / 3.0 * kPi * rb * rb * rb;
+  EXPECT_NEAR(Volume(kept), Volume(plain) - ball, 0.05 * ball);
+}
+
 TEST(Spsr, InwardNormalsThroughReconstructPoissonGiveTheSameOutwardSurface) {
   PointCloud pc = SpherePoints(2000, 0.5, Vec3::Zero(), 4);
   PoissonOptions o;
